@@ -1,0 +1,121 @@
+"""The plain genetic algorithm of Fountas et al. ("Weighted objective evaluation utility").
+
+One generation: Eq. 10 exponential ranked fitness -> selection into a mating pool -> crossover
+-> mutation -> elitism. Every named piece is configurable; the defaults are the paper's
+(roulette, single-point crossover, single-point mutation, a small elite).
+"""
+
+from __future__ import annotations
+
+from typing import Literal
+
+import numpy as np
+from pydantic import BaseModel, ConfigDict, Field, model_validator
+
+from ..operators import crossover, elitism, fitness, mutation, selection
+from .base import Algorithm
+
+
+class _Strict(BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+
+class FitnessConfig(_Strict):
+    """Eq. 10 scaling: normalization of the objective first (see operators.fitness)."""
+
+    normalize: Literal["rank", "minmax"] = "rank"
+    pressure: float = Field(2.0, gt=0)
+
+
+class SelectionConfig(_Strict):
+    kind: Literal["roulette", "tournament"] = "roulette"
+    size: int = Field(2, ge=2, description="tournament size")
+
+
+class CrossoverConfig(_Strict):
+    kind: Literal["single_point", "two_point"] = "single_point"
+    rate: float = Field(0.9, ge=0, le=1)
+
+
+class MutationConfig(_Strict):
+    kind: Literal["single_point", "per_bit"] = "single_point"
+    rate: float = Field(0.2, ge=0, le=1, description="per individual (single_point) or per bit")
+
+
+class GAConfig(_Strict):
+    name: Literal["ga"] = "ga"
+    population: int = Field(20, ge=2)
+    elitism: int = Field(1, ge=0, description="fittest individuals copied unchanged")
+    fitness: FitnessConfig = FitnessConfig()
+    selection: SelectionConfig = SelectionConfig()
+    crossover: CrossoverConfig = CrossoverConfig()
+    mutation: MutationConfig = MutationConfig()
+
+    @model_validator(mode="after")
+    def _elite_below_population(self):
+        if self.elitism >= self.population:
+            raise ValueError(f"elitism ({self.elitism}) must be below population ({self.population})")
+        return self
+
+
+CROSSOVERS = {"single_point": crossover.single_point, "two_point": crossover.two_point}
+MUTATIONS = {"single_point": mutation.single_point, "per_bit": mutation.per_bit}
+
+
+class GA(Algorithm):
+    """Generational GA over binary genotypes with Eq. 10 fitness and elitism."""
+
+    name = "ga"
+
+    def __init__(self, config: GAConfig, n_bits: int, rng: np.random.Generator) -> None:
+        super().__init__(n_bits, rng)
+        self.config = config
+        self._pending_elite = np.empty(0, dtype=np.intp)
+
+    # -- one generation of host evolution, as named steps ------------------------------------
+    def scaled_fitness(self, f: np.ndarray) -> np.ndarray:
+        c = self.config.fitness
+        return fitness.exponential_fitness(f, c.normalize, c.pressure)
+
+    def select(self, fit: np.ndarray, n: int) -> np.ndarray:
+        c = self.config.selection
+        if c.kind == "tournament":
+            return selection.tournament(fit, n, self.rng, c.size)
+        return selection.roulette(fit, n, self.rng)
+
+    def offspring(self) -> np.ndarray:
+        """Mating pool -> crossover -> mutation: ``population - elitism`` children."""
+        cfg = self.config
+        n_children = cfg.population - cfg.elitism
+        n_pairs = (n_children + 1) // 2
+        parents = self.select(self.scaled_fitness(self.f), 2 * n_pairs)
+        a, b = CROSSOVERS[cfg.crossover.kind](
+            self.G[parents[:n_pairs]], self.G[parents[n_pairs:]], cfg.crossover.rate, self.rng
+        )
+        children = np.concatenate([a, b])[:n_children]
+        return MUTATIONS[cfg.mutation.kind](children, cfg.mutation.rate, self.rng)
+
+    # -- ask / tell ----------------------------------------------------------------------------
+    def ask(self) -> np.ndarray:
+        if self.generation < 0:
+            self._batch = self.rng.random((self.config.population, self.n_bits)) < 0.5
+        else:
+            self._pending_elite = elitism.elite_indices(self.f, self.config.elitism)
+            self._batch = self.offspring()
+        return self._batch
+
+    def tell(self, f: np.ndarray) -> bool:
+        f = np.asarray(f, dtype=float)
+        if self.generation < 0:
+            self.G, self.f = self._batch, f
+        else:
+            keep = self._pending_elite
+            self.G = np.concatenate([self.G[keep], self._batch])
+            self.f = np.concatenate([self.f[keep], f])
+        self._batch = None
+        return self.hosts_evaluated()
+
+    def hosts_evaluated(self) -> bool:
+        """Hook after the hosts' batch is told; the plain GA ends its generation here."""
+        self.generation += 1
+        return True

@@ -1,0 +1,209 @@
+"""The virus-evolutionary GA (VEGA) of Fountas et al., after Kubota et al. (1996).
+
+Hosts evolve as in :class:`~evoplan.algorithms.ga.GA`; a population of viruses (substrings of
+hosts) infects them every generation. The rules of ``docs/vega.md``, each a named method:
+
+1. **Creation** (:meth:`create_viruses`, Fountas "targeted and random"): a share
+   ``creation.elite_share`` of new viruses is transduced from the elite hosts (the best
+   ``creation.elite_pool`` of the population), the rest from hosts drawn uniformly among the
+   others. Kubota's purely random creation is ``elite_share: 0``.
+2. **Infection** (:meth:`infections`, Kubota): virus ``i`` infects each host with probability
+   ``rate_i`` (reverse transcription, Fig. 3b). All infections of a generation are made on the
+   hosts as they were after the GA step and evaluated in one batch; every one of those
+   evaluations counts in the budget.
+3. **Replacement** (:meth:`replace_hosts`, a choice the papers leave open): each infected host
+   takes its best infected version, either only if it is better (``replacement: improve``,
+   the default: elitist, no host is made worse) or always (``always``, Kubota's vertical
+   transmission of harmful viruses as well).
+4. **Virus fitness** (Eq. 11-12): ``fitvirus_ij = f(host_j) - f(infected host_j)`` (an
+   objective to minimize, so a gain is positive), summed over the hosts each virus infected.
+5. **Life / infectivity force** (:meth:`update_viruses`): Kubota's
+   ``life_i(t+1) = r * life_i(t) + fitvirus_i``, with the life reduction rate ``r`` being
+   Fountas' infectivity force parameter (Table 1: 0.001 ... 1.0). Fountas' rule on the force:
+   if ``life`` fell since the previous generation, or (Kubota) turned negative, the virus is
+   replaced by a fresh transduction; if it rose, the virus does a partial transduction
+   (Fig. 3c) from the infected host it improved most, so its length grows, up to
+   ``max_length`` (``VrsLgth``).
+6. **Infection rate** (Kubota's self-adaptation, Fountas' bounds): ``rate_i *= 1 + step``
+   after a gain, ``1 - step`` after a loss, clipped to ``[min_infection_rate,
+   max_infection_rate]`` with ``0 <= min <= 0.5 <= max <= 1``; a new virus starts at
+   ``infection_rate``.
+"""
+
+from __future__ import annotations
+
+from typing import Literal
+
+import numpy as np
+from pydantic import Field, model_validator
+
+from ..operators import elitism, viral
+from .ga import GA, GAConfig, _Strict
+
+
+class CreationConfig(_Strict):
+    elite_share: float = Field(0.5, ge=0, le=1, description="share of viruses taken from elite hosts")
+    elite_pool: int = Field(2, ge=1, description="how many of the best hosts count as elite")
+
+
+class VirusConfig(_Strict):
+    count: int = Field(7, ge=1, description="virus population size (Table 1: 2, 5, 7, 10)")
+    max_length: int = Field(40, ge=1, description="VrsLgth, longest virus in bits (Table 1: 10..40)")
+    initial_length: int | None = Field(
+        None, ge=1, description="longest freshly transduced virus; default max_length // 4"
+    )
+    growth: int = Field(1, ge=1, description="loci a partial transduction adds")
+    infectivity_force: float = Field(
+        0.001, ge=0, le=1, description="life reduction rate r (Table 1: 0.001, 0.01, 0.1, 1.0)"
+    )
+    infection_rate: float = Field(0.7, ge=0, le=1, description="initial rate (Table 1: 0.1..1.0)")
+    min_infection_rate: float = Field(0.1, ge=0, le=0.5)
+    max_infection_rate: float = Field(1.0, ge=0.5, le=1)
+    rate_step: float = Field(0.1, ge=0, lt=1, description="Kubota's adaptation step a")
+    replacement: Literal["improve", "always"] = "improve"
+    creation: CreationConfig = CreationConfig()
+
+    @model_validator(mode="after")
+    def _rate_in_bounds(self):
+        if not self.min_infection_rate <= self.infection_rate <= self.max_infection_rate:
+            raise ValueError(
+                f"infection_rate {self.infection_rate} must lie in [min_infection_rate, "
+                f"max_infection_rate] = [{self.min_infection_rate}, {self.max_infection_rate}]"
+            )
+        return self
+
+    @property
+    def fresh_length(self) -> int:
+        return self.initial_length or max(1, self.max_length // 4)
+
+
+class VEGAConfig(GAConfig):
+    name: Literal["vega"] = "vega"
+    virus: VirusConfig = VirusConfig()
+
+
+class VEGA(GA):
+    """Host GA plus a virus population; a generation is two ask/tell rounds."""
+
+    name = "vega"
+
+    def __init__(self, config: VEGAConfig, n_bits: int, rng: np.random.Generator) -> None:
+        super().__init__(config, n_bits, rng)
+        v = config.virus
+        if config.population < 2:
+            raise ValueError("VEGA needs at least two hosts")
+        self.vc = v
+        self.start = np.zeros(v.count, dtype=np.int64)
+        self.length = np.zeros(v.count, dtype=np.int64)
+        self.bits = np.zeros((v.count, n_bits), dtype=bool)
+        self.life = np.zeros(v.count)
+        self.rate = np.full(v.count, v.infection_rate)
+        self.phase = "hosts"
+        self._pairs: tuple[np.ndarray, np.ndarray] | None = None
+
+    # -- rule 1: creation --------------------------------------------------------------------
+    def source_hosts(self, count: int, exact: bool) -> np.ndarray:
+        """Hosts to transduce ``count`` new viruses from: elite with ``elite_share``, else random."""
+        c = self.vc.creation
+        N = self.f.size
+        pool = min(c.elite_pool, N)
+        order = elitism.elite_indices(self.f, N)
+        if exact:
+            from_elite = np.arange(count) < round(c.elite_share * count)
+        else:
+            from_elite = self.rng.random(count) < c.elite_share
+        elite = order[self.rng.integers(0, pool, count)]
+        rest = order[pool:] if pool < N else order
+        others = rest[self.rng.integers(0, rest.size, count)]
+        return np.where(from_elite, elite, others)
+
+    def create_viruses(self, which: np.ndarray, exact: bool = False) -> None:
+        """Fresh transduction (Fig. 3a) for the viruses ``which``; they start with life 0."""
+        if which.size == 0:
+            return
+        hosts = self.G[self.source_hosts(which.size, exact)]
+        s, n, b = viral.transduction(hosts, min(self.vc.fresh_length, self.vc.max_length), self.rng)
+        self.start[which], self.length[which], self.bits[which] = s, n, b
+        self.life[which] = 0.0
+        self.rate[which] = self.vc.infection_rate
+
+    # -- rule 2: infection -----------------------------------------------------------------------
+    def infections(self) -> tuple[np.ndarray, np.ndarray]:
+        """``(virus, host)`` index pairs: virus ``i`` infects each host with probability ``rate_i``."""
+        hit = self.rng.random((self.vc.count, self.f.size)) < self.rate[:, None]
+        return np.nonzero(hit)
+
+    # -- rule 3: replacement ---------------------------------------------------------------------
+    def replace_hosts(self, host: np.ndarray, trials: np.ndarray, f_trial: np.ndarray) -> None:
+        """Each infected host takes its best infected version (if better, under ``improve``)."""
+        order = np.lexsort((np.where(np.isnan(f_trial), np.inf, f_trial), host))
+        first = np.ones(order.size, dtype=bool)
+        first[1:] = host[order][1:] != host[order][:-1]
+        best = order[first]  # the best trial of each infected host
+        h = host[best]
+        take = f_trial[best] < self.f[h] if self.vc.replacement == "improve" else np.ones(h.size, bool)
+        self.G[h[take]] = trials[best[take]]
+        self.f[h[take]] = f_trial[best[take]]
+
+    # -- rules 4-6: virus bookkeeping ------------------------------------------------------------
+    def update_viruses(self, virus: np.ndarray, trials: np.ndarray, gain: np.ndarray) -> None:
+        """Eq. 12 fitness, life force, infection-rate adaptation, then renew or extend viruses."""
+        V = self.vc.count
+        fitvirus = viral.virus_fitness(gain, virus, V)
+        old_life = self.life
+        self.life = viral.update_life(old_life, fitvirus, self.vc.infectivity_force)
+        self.rate = viral.adapt_infection_rate(
+            self.rate, fitvirus, self.vc.rate_step, self.vc.min_infection_rate, self.vc.max_infection_rate
+        )
+        renew = (self.life < 0) | (self.life < old_life)
+        grow = (self.life > old_life) & ~renew
+        if grow.any():
+            # the trial in which each growing virus gained most
+            best_trial = np.full(V, -1)
+            order = np.lexsort((-gain, virus))
+            first = np.ones(order.size, dtype=bool)
+            first[1:] = virus[order][1:] != virus[order][:-1]
+            best_trial[virus[order[first]]] = order[first]
+            idx = np.flatnonzero(grow & (best_trial >= 0))
+            s, n, b = viral.partial_transduction(
+                self.start[idx], self.length[idx], self.bits[idx], trials[best_trial[idx]],
+                self.vc.max_length, self.rng, self.vc.growth,
+            )
+            self.start[idx], self.length[idx], self.bits[idx] = s, n, b
+        self.create_viruses(np.flatnonzero(renew))
+
+    # -- ask / tell ------------------------------------------------------------------------------
+    def ask(self) -> np.ndarray:
+        if self.phase == "hosts":
+            return super().ask()
+        virus, host = self._pairs
+        self._batch = viral.reverse_transcription(
+            self.G[host], self.start[virus], self.length[virus], self.bits[virus]
+        )
+        return self._batch
+
+    def hosts_evaluated(self) -> bool:
+        if self.generation < 0:  # initial population: create the viruses (rule 1)
+            self.create_viruses(np.arange(self.vc.count), exact=True)
+            self.generation += 1
+            return True
+        virus, host = self.infections()
+        if virus.size == 0:
+            self.update_viruses(virus, np.zeros((0, self.n_bits), bool), np.zeros(0))
+            self.generation += 1
+            return True
+        self._pairs, self.phase = (virus, host), "infection"
+        return False
+
+    def tell(self, f: np.ndarray) -> bool:
+        if self.phase == "hosts":
+            return super().tell(f)
+        f = np.asarray(f, dtype=float)
+        virus, host = self._pairs
+        trials = self._batch
+        gain = viral.infection_gain(self.f[host], f)  # before the hosts are replaced
+        self.replace_hosts(host, trials, f)
+        self.update_viruses(virus, trials, gain)
+        self._pairs, self._batch, self.phase = None, None, "hosts"
+        self.generation += 1
+        return True

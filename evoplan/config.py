@@ -1,0 +1,155 @@
+"""YAML run configuration, validated once at the edge (pydantic models, unknown keys rejected).
+
+Layout of a run file::
+
+    name: kubota_vega            # optional, defaults to the file name
+    seed: 1
+    problem: {name: kubota, params: {}, bits: 23, gray: false, variables: {x1: {bits: 20}}}
+    algorithm: {name: vega, population: 20, ..., virus: {count: 7, ...}}
+    termination: {generations: 50, evaluations: null, target: null, seconds: null}
+    checkpoint: {every_generations: null, every_seconds: 30}
+    output: {plot: true}
+
+Every error names the file, the key path and the problem, on one line.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated, Any, Union
+
+import yaml
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+
+from .algorithms.ga import GAConfig
+from .algorithms.vega import VEGAConfig
+from .errors import ConfigError
+
+
+class _Strict(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+
+
+class VariableOverride(_Strict):
+    """Per-variable override of the bounds a problem declares, and of the bit count."""
+
+    low: float | None = None
+    high: float | None = None
+    bits: int | None = Field(None, ge=1, le=52)
+
+    @model_validator(mode="after")
+    def _ordered(self):
+        if self.low is not None and self.high is not None and self.low >= self.high:
+            raise ValueError(f"lower bound {self.low} must be below upper bound {self.high}")
+        return self
+
+
+class ProblemConfig(_Strict):
+    name: str
+    params: dict[str, Any] = Field(default_factory=dict)
+    bits: int = Field(23, ge=1, le=52, description="bits per real variable (Fountas: 46 for 2)")
+    gray: bool = False
+    variables: dict[str, VariableOverride] = Field(default_factory=dict)
+    constraint_penalty: float = Field(1e6, ge=0)
+
+
+class TerminationConfig(_Strict):
+    generations: int | None = Field(None, ge=1)
+    evaluations: int | None = Field(None, ge=1)
+    target: float | None = None
+    seconds: float | None = Field(None, gt=0)
+
+    @model_validator(mode="after")
+    def _at_least_one(self):
+        if all(v is None for v in (self.generations, self.evaluations, self.target, self.seconds)):
+            raise ValueError("give at least one of generations, evaluations, target, seconds")
+        if self.generations is None and self.evaluations is None and self.seconds is None:
+            raise ValueError("a target alone may never be reached: add generations, evaluations or seconds")
+        return self
+
+
+class CheckpointConfig(_Strict):
+    every_generations: int | None = Field(None, ge=1)
+    every_seconds: float | None = Field(30.0, gt=0)
+
+
+class OutputConfig(_Strict):
+    plot: bool = True
+
+
+AlgorithmConfig = Annotated[Union[GAConfig, VEGAConfig], Field(discriminator="name")]
+
+
+class RunConfig(_Strict):
+    name: str | None = None
+    seed: int = Field(0, ge=0)
+    problem: ProblemConfig
+    algorithm: AlgorithmConfig
+    termination: TerminationConfig
+    checkpoint: CheckpointConfig = CheckpointConfig()
+    output: OutputConfig = OutputConfig()
+
+    def resolved(self) -> dict[str, Any]:
+        """Every setting, defaults included, as plain data (what ``config.yaml`` records)."""
+        return self.model_dump(mode="json")
+
+
+def read_yaml(path: str | Path) -> dict[str, Any]:
+    """A YAML mapping from ``path``; missing files and syntax errors become one-line errors."""
+    path = Path(path)
+    try:
+        text = path.read_text()
+    except FileNotFoundError:
+        raise ConfigError(f"{path}: no such file") from None
+    except OSError as e:
+        raise ConfigError(f"{path}: cannot read ({e.strerror})") from None
+    try:
+        data = yaml.safe_load(text)
+    except yaml.YAMLError as e:
+        mark = getattr(e, "problem_mark", None)
+        where = f"{path}:{mark.line + 1}" if mark is not None else str(path)
+        problem = getattr(e, "problem", None) or str(e).splitlines()[0]
+        raise ConfigError(f"{where}: invalid YAML: {problem}") from None
+    if not isinstance(data, dict):
+        raise ConfigError(f"{path}: expected a mapping of settings at the top level")
+    return data
+
+
+def format_validation_error(error: ValidationError, source: str) -> str:
+    """The first error of a pydantic validation as ``source: key.path: message (got value)``."""
+    first = error.errors()[0]
+    loc = [str(p) for p in first["loc"]]
+    if len(loc) > 1 and loc[0] == "algorithm" and first["type"] != "union_tag_invalid":
+        del loc[1]  # the discriminator tag pydantic inserts ("algorithm.vega.virus...")
+    got = first.get("input")
+    if first["type"] == "union_tag_invalid":
+        loc.append("name")
+        msg = f"unknown algorithm {first['ctx']['tag']!r} (known: {first['ctx']['expected_tags']})"
+    elif first["type"] == "union_tag_not_found":
+        loc.append("name")
+        msg = "missing (ga or vega)"
+    elif first["type"] == "missing":
+        msg = "missing"
+    else:
+        msg = first["msg"].removeprefix("Value error, ")
+        if not isinstance(got, dict):
+            msg += f" (got {got!r})"
+    more = len(error.errors()) - 1
+    tail = f" [+{more} more error{'s' if more > 1 else ''}]" if more else ""
+    return f"{source}: {'.'.join(loc) or '(top level)'}: {msg}{tail}"
+
+
+def parse_config(data: dict[str, Any], source: str = "<config>") -> RunConfig:
+    try:
+        return RunConfig.model_validate(data)
+    except ValidationError as e:
+        raise ConfigError(format_validation_error(e, source)) from None
+
+
+def load_config(path: str | Path, seed: int | None = None) -> RunConfig:
+    """Read and validate a run file; ``seed`` overrides the file's seed; ``name`` defaults to the stem."""
+    data = read_yaml(path)
+    if seed is not None:
+        data["seed"] = seed
+    data.setdefault("name", Path(path).stem)
+    return parse_config(data, str(path))

@@ -1,0 +1,69 @@
+"""Evaluation of decoded batches with a pymoo problem: constraints, failures and counting.
+
+A batch ``X: (n, d)`` is evaluated in one call. If that call raises, every row is evaluated on
+its own so that one bad individual does not sink the others. A row that raises or returns a
+non-finite value is a *failure*: it gets the objective value ``inf`` (ranked last by every
+operator), is counted, and the run goes on. Constrained problems (pymoo ``G <= 0``, ``H = 0``)
+are scalarized with a static penalty: ``f + penalty * (sum max(G, 0) + sum |H|)``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+from pymoo.core.problem import Problem
+
+
+@dataclass
+class Evaluation:
+    """The outcome of one batch: objective values ``f: (n,)`` and the failures among them."""
+
+    f: np.ndarray
+    failed: np.ndarray
+    errors: list[str] = field(default_factory=list)
+
+
+class Evaluator:
+    """Turns a pymoo problem into ``X: (n, d) -> Evaluation`` for single-objective search."""
+
+    def __init__(self, problem: Problem, constraint_penalty: float = 1e6) -> None:
+        if problem.n_obj != 1:
+            raise ValueError(
+                f"problem has {problem.n_obj} objectives; evoplan run optimizes one "
+                "(use a weighted single-objective problem)"
+            )
+        self.problem = problem
+        self.constraint_penalty = float(constraint_penalty)
+        self.constrained = bool(problem.n_ieq_constr or problem.n_eq_constr)
+
+    def _scalar(self, X: np.ndarray) -> np.ndarray:
+        out = self.problem.evaluate(X, return_as_dictionary=True)
+        f = np.asarray(out["F"], dtype=float).reshape(len(X), -1)[:, 0]
+        if self.constrained:
+            violation = np.zeros(len(X))
+            if out.get("G") is not None and self.problem.n_ieq_constr:
+                violation += np.maximum(np.asarray(out["G"]).reshape(len(X), -1), 0).sum(axis=1)
+            if out.get("H") is not None and self.problem.n_eq_constr:
+                violation += np.abs(np.asarray(out["H"]).reshape(len(X), -1)).sum(axis=1)
+            f = f + self.constraint_penalty * violation
+        return f
+
+    def __call__(self, X: np.ndarray) -> Evaluation:
+        errors: list[str] = []
+        try:
+            f = self._scalar(X)
+        except Exception as batch_error:  # isolate the failing rows
+            f = np.empty(len(X))
+            for i, row in enumerate(X):
+                try:
+                    f[i] = self._scalar(row[None, :])[0]
+                except Exception as e:  # noqa: BLE001 - a black box may raise anything
+                    f[i] = np.nan
+                    errors.append(f"{type(e).__name__}: {e}")
+            if not errors:  # the batch failed but no row did: report the batch error
+                errors.append(f"{type(batch_error).__name__}: {batch_error}")
+        failed = ~np.isfinite(f)
+        if failed.any() and len(errors) < failed.sum():
+            errors.append(f"non-finite objective value for {int(failed.sum())} individual(s)")
+        return Evaluation(np.where(failed, np.inf, f), failed, errors)

@@ -1,0 +1,99 @@
+"""Problems by name, and the binary variable space of a problem.
+
+Names: ``kubota`` (Fountas Eq. 13), ``toolpath`` (the machining simulator, when installed), and
+any pymoo test problem (``rastrigin``, ``ackley``, ``griewank``, ``rosenbrock``, ``schwefel``,
+``sphere``, ``zakharov``, ``g1``...), built with ``pymoo.problems.get_problem(name, **params)``.
+
+A problem declares its variables either as pymoo variables in a ``variables`` attribute
+(``{name: Real(bounds=...) | Integer(bounds=...) | Choice(options=...) | Binary()}``) or, like
+pymoo's test problems, only through ``xl``/``xu`` (real variables ``x1..xd``).
+"""
+
+from __future__ import annotations
+
+import importlib
+from typing import Any, Callable
+
+import numpy as np
+from pymoo.core.problem import Problem
+
+from .space import Categorical, Integer, Real, Space
+
+# name -> "module:attribute"; imported on first use so a problem's dependencies load only when used
+PROBLEMS: dict[str, str] = {
+    "kubota": "evoplan.problems.benchmarks:Kubota",
+}
+
+
+def register(name: str, target: str) -> None:
+    """Make ``target`` (``"module:Class"``) available to run files as ``problem.name: name``."""
+    PROBLEMS[name.lower()] = target
+
+
+def _factory(name: str) -> Callable[..., Problem] | None:
+    target = PROBLEMS.get(name.lower())
+    if target is None:
+        return None
+    module, attr = target.split(":")
+    return getattr(importlib.import_module(module), attr)
+
+
+def make_problem(name: str, params: dict[str, Any] | None = None) -> Problem:
+    """Build a problem by name; ``ValueError`` with a one-line message if it cannot be."""
+    params = dict(params or {})
+    factory = _factory(name)
+    try:
+        if factory is not None:
+            return factory(**params)
+        from pymoo.problems import get_problem
+
+        return get_problem(name, **params)
+    except TypeError as e:
+        raise ValueError(f"bad parameters for problem {name!r}: {e}") from None
+    except Exception as e:  # pymoo raises a bare Exception("Problem not found.")
+        if "not found" in str(e).lower():
+            raise ValueError(
+                f"unknown problem {name!r} (evoplan: {', '.join(sorted(PROBLEMS))}, or any pymoo test problem)"
+            ) from None
+        raise ValueError(f"cannot build problem {name!r}: {e}") from None
+
+
+def declared_variables(problem: Problem, bits: int) -> list:
+    """The problem's variables as evoplan variables, reals getting ``bits`` bits each."""
+    declared = getattr(problem, "variables", None)
+    if isinstance(declared, dict) and declared:
+        out = []
+        for name, var in declared.items():
+            kind = type(var).__name__
+            if kind == "Real":
+                out.append(Real(name, float(var.bounds[0]), float(var.bounds[1]), bits))
+            elif kind == "Integer":
+                out.append(Integer(name, int(var.bounds[0]), int(var.bounds[1])))
+            elif kind == "Choice":
+                out.append(Categorical(name, tuple(var.options)))
+            elif kind == "Binary":
+                out.append(Integer(name, 0, 1))
+            else:
+                raise ValueError(f"variable {name!r}: unsupported pymoo variable type {kind}")
+        return out
+    xl, xu = np.broadcast_to(problem.xl, problem.n_var), np.broadcast_to(problem.xu, problem.n_var)
+    return [Real(f"x{i + 1}", float(lo), float(hi), bits) for i, (lo, hi) in enumerate(zip(xl, xu))]
+
+
+def build_space(problem: Problem, bits: int = 23, gray: bool = False,
+                overrides: dict[str, Any] | None = None) -> Space:
+    """The binary space of ``problem``; ``overrides`` maps a variable name to low/high/bits."""
+    variables = declared_variables(problem, bits)
+    by_name = {v.name: i for i, v in enumerate(variables)}
+    for name, o in (overrides or {}).items():
+        if name not in by_name:
+            raise ValueError(f"variables.{name}: no such variable (the problem has {', '.join(by_name)})")
+        v = variables[by_name[name]]
+        changes = {k: getattr(o, k) for k in ("low", "high", "bits") if getattr(o, k) is not None}
+        if v.kind == "categorical" and ({"low", "high"} & changes.keys()):
+            raise ValueError(f"variables.{name}: a categorical variable has no bounds")
+        try:
+            variables[by_name[name]] = type(v)(**{**v.__dict__, **changes})
+        except ValueError as e:
+            raise ValueError(f"variables.{e}") from None
+    return Space(variables, gray=gray)

@@ -1,0 +1,186 @@
+"""One run from a configuration: build, execute with progress and checkpoints, write results.
+
+Everything that can be checked is checked before the results folder is created, so bad input
+leaves nothing behind. The folder then holds ``config.yaml`` (every setting, defaults included)
+and ``checkpoint.pkl`` while the run goes on, and at the end ``history.csv``, ``best.json`` and
+``convergence.png``, each written completely or not at all.
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import yaml
+from tqdm import tqdm
+
+from . import __version__
+from .algorithms import ALGORITHMS
+from .config import RunConfig, load_config, read_yaml
+from .engine import HISTORY_COLUMNS, Checkpointer, RunState, Termination, run, write_atomic
+from .errors import ConfigError
+from .evaluation import Evaluator
+from .plots import convergence_png
+from .problem_factory import build_space, make_problem
+from .space import Space
+
+CHECKPOINT = "checkpoint.pkl"
+
+
+@dataclass
+class Prepared:
+    """A validated run, ready to start: nothing has touched the disk yet."""
+
+    config: RunConfig
+    source: str
+    space: Space
+    evaluator: Evaluator
+    termination: Termination
+
+    @property
+    def fingerprint(self) -> str:
+        return json.dumps(self.config.resolved(), sort_keys=True)
+
+    def new_state(self) -> RunState:
+        algo_cls, _ = ALGORITHMS[self.config.algorithm.name]
+        rng = np.random.default_rng(self.config.seed)
+        algorithm = algo_cls(self.config.algorithm, self.space.n_bits, rng)
+        return RunState(algorithm=algorithm, rng=rng, fingerprint=self.fingerprint)
+
+
+def prepare(config: RunConfig, source: str = "<config>") -> Prepared:
+    """Build problem, space and evaluator; any bad setting is a one-line ``ConfigError``."""
+    p = config.problem
+    try:
+        problem = make_problem(p.name, p.params)
+    except ValueError as e:
+        raise ConfigError(f"{source}: problem: {e}") from None
+    try:
+        space = build_space(problem, p.bits, p.gray, p.variables)
+        evaluator = Evaluator(problem, p.constraint_penalty)
+    except ValueError as e:
+        raise ConfigError(f"{source}: problem.{e}") from None
+    t = config.termination
+    return Prepared(config, source, space, evaluator, Termination(t.generations, t.evaluations, t.target, t.seconds))
+
+
+def prepare_file(path: str | Path, seed: int | None = None) -> Prepared:
+    return prepare(load_config(path, seed), str(path))
+
+
+def default_out(config: RunConfig) -> Path:
+    stamp = time.strftime("%Y%m%d-%H%M%S")
+    return Path("results") / f"{config.name}-seed{config.seed}-{stamp}"
+
+
+def start_folder(prepared: Prepared, out: Path) -> None:
+    """Create ``out`` for a new run; refuse a folder that already holds files."""
+    if out.exists() and (not out.is_dir() or any(out.iterdir())):
+        raise ConfigError(f"{out}: already exists and is not empty: choose another --out, or --resume it")
+    out.mkdir(parents=True, exist_ok=True)
+    write_atomic(out / "config.yaml", yaml.safe_dump(prepared.config.resolved(), sort_keys=False).encode())
+
+
+def resume_state(prepared: Prepared, out: Path) -> RunState:
+    """The checkpointed state in ``out``, if it was made by this very configuration."""
+    if not (out / CHECKPOINT).is_file():
+        raise ConfigError(f"{out}: no {CHECKPOINT} to resume from")
+    try:
+        state = Checkpointer.load(out / CHECKPOINT)
+    except Exception as e:  # noqa: BLE001 - unreadable, torn or foreign file
+        raise ConfigError(f"{out / CHECKPOINT}: cannot read checkpoint ({e})") from None
+    if state.fingerprint != prepared.fingerprint:
+        before = json.loads(state.fingerprint)
+        now = prepared.config.resolved()
+        keys = [k for k in now if now.get(k) != before.get(k)]
+        raise ConfigError(
+            f"{prepared.source}: differs from the configuration of {out} in {', '.join(keys)}: "
+            "resume with the same file and seed"
+        )
+    return state
+
+
+def execute(prepared: Prepared, out: Path, resume: bool = False, progress: bool | None = None) -> RunState:
+    """Run to termination, checkpointing into ``out``, then write the results files."""
+    cfg = prepared.config
+    state = resume_state(prepared, out) if resume else None
+    if state is None:
+        start_folder(prepared, out)
+        state = prepared.new_state()
+    checkpointer = Checkpointer(out / CHECKPOINT, cfg.checkpoint.every_generations, cfg.checkpoint.every_seconds)
+    with _progress_bar(prepared.termination, state, progress) as update:
+        run(state, prepared.space, prepared.evaluator, prepared.termination, checkpointer, update)
+    write_results(prepared, state, out)
+    return state
+
+
+class _progress_bar:
+    """A tqdm bar over generations (or evaluations) on stderr; off when stderr is not a terminal."""
+
+    def __init__(self, termination: Termination, state: RunState, enabled: bool | None) -> None:
+        self.by_gen = termination.generations is not None
+        total = termination.generations if self.by_gen else termination.evaluations
+        done = max(state.algorithm.generation, 0) if self.by_gen else state.evaluations
+        disable = None if enabled is None else not enabled
+        self.bar = tqdm(total=total, initial=min(done, total or done), unit="gen" if self.by_gen else "eval",
+                        disable=disable, file=sys.stderr, dynamic_ncols=True, leave=True)
+
+    def __enter__(self):
+        def update(state: RunState) -> None:
+            now = state.algorithm.generation if self.by_gen else state.evaluations
+            self.bar.update(max(0, min(now, self.bar.total or now) - self.bar.n))
+            self.bar.set_postfix(best=f"{state.best_f:.4g}", evals=state.evaluations, refresh=False)
+        return update
+
+    def __exit__(self, *exc) -> None:
+        self.bar.close()
+
+
+def history_frame(state: RunState) -> pd.DataFrame:
+    return pd.DataFrame(state.history, columns=list(HISTORY_COLUMNS))
+
+
+def best_record(prepared: Prepared, state: RunState) -> dict:
+    """What ``best.json`` holds: the best solution decoded to named variables, and the run's counts."""
+    cfg = prepared.config
+    best = {"objective": state.best_f if np.isfinite(state.best_f) else None, "variables": None, "genotype": None}
+    if state.best_g is not None:
+        best["variables"] = prepared.space.named(prepared.space.decode(state.best_g[None, :])[0])
+        best["genotype"] = "".join("1" if b else "0" for b in state.best_g)
+    return {
+        **best,
+        "evaluations": state.evaluations,
+        "generations": state.algorithm.generation,
+        "failures": state.failures,
+        "failure_messages": state.errors,
+        "stop_reason": state.stop_reason,
+        "seed": cfg.seed,
+        "algorithm": cfg.algorithm.name,
+        "problem": cfg.problem.name,
+        "wall_seconds": round(state.elapsed, 3),
+        "space": prepared.space.describe(),
+        "evoplan_version": __version__,
+    }
+
+
+def write_results(prepared: Prepared, state: RunState, out: Path) -> None:
+    history = history_frame(state)
+    write_atomic(out / "history.csv", history.to_csv(index=False).encode())
+    record = best_record(prepared, state)
+    write_atomic(out / "best.json", (json.dumps(record, indent=2) + "\n").encode())
+    if prepared.config.output.plot:
+        title = f"{prepared.config.name}: {prepared.config.algorithm.name} on {prepared.config.problem.name}"
+        write_atomic(out / "convergence.png", convergence_png(history, title))
+
+
+def resume_seed(out: Path) -> int | None:
+    """The seed recorded in a results folder's ``config.yaml`` (so ``--resume`` needs no ``--seed``)."""
+    try:
+        return int(read_yaml(out / "config.yaml")["seed"])
+    except (ConfigError, KeyError, TypeError, ValueError):
+        return None

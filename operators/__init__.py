@@ -1,0 +1,1 @@
+"""Genetic and viral operators: pure functions over numpy arrays of whole populations."""

@@ -1,0 +1,49 @@
+"""Fitness scaling of Fountas Eq. 10, with the objective normalization it needs.
+
+Eq. 10, ``Fitted_i = FitSum * exp(-ObjVal_i**2)``, is meaningful only for objective values of
+order one: ``exp(-f**2)`` is 0 for every ``f`` beyond about 6 and cannot rank them. evoplan
+therefore normalizes the population's objective values to ``[0, 1]`` first, then multiplies by
+a ``pressure`` factor ``c`` before Eq. 10:
+
+- ``"rank"`` (default): ``v_i = rank_i / (n - 1)``, ranks ascending as the paper ranks
+  objective values. Scale-free: the selection pressure does not change as the population
+  converges or with the units of the objective.
+- ``"minmax"``: ``v_i = (f_i - min f) / (max f - min f)``; keeps the spacing of the values.
+
+``fitness = FitSum * exp(-(c * v)**2)``; with ``c = 1`` the best is ``e`` times as likely to be
+drawn by roulette as the worst, with ``c = 2`` ``e**4`` times. ``FitSum`` (the sum of the
+objective values) is a common factor: it changes no selection probability, and is kept only so
+that the numbers are those of Eq. 10. Failed evaluations (``inf``/``nan``) rank last.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+def normalize(f: np.ndarray, method: str = "rank") -> np.ndarray:
+    """Objective values ``f: (n,)`` (minimized) to ``[0, 1]``, 0 for the best; non-finite -> 1."""
+    f = np.asarray(f, dtype=float)
+    finite = np.isfinite(f)
+    n = f.size
+    if n <= 1 or not finite.any():
+        return np.where(finite, 0.0, 1.0)
+    if method == "rank":
+        order = np.argsort(np.where(finite, f, np.inf), kind="stable")
+        ranks = np.empty(n)
+        ranks[order] = np.arange(n)
+        return ranks / (n - 1)
+    if method == "minmax":
+        lo, hi = f[finite].min(), f[finite].max()
+        span = hi - lo
+        v = (f - lo) / span if span > 0 else np.zeros(n)
+        return np.where(finite, v, 1.0)
+    raise ValueError(f"unknown normalization {method!r} (rank, minmax)")
+
+
+def exponential_fitness(f: np.ndarray, method: str = "rank", pressure: float = 1.0) -> np.ndarray:
+    """Fountas Eq. 10 on normalized objective values: ``(n,) -> (n,)`` positive, larger is fitter."""
+    v = normalize(f, method) * pressure
+    finite = np.isfinite(f)
+    fitsum = float(np.abs(f[finite]).sum()) if finite.any() else 1.0
+    return (fitsum if fitsum > 0 else 1.0) * np.exp(-(v**2))

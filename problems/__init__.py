@@ -1,0 +1,1 @@
+"""Problems: benchmark functions and the toolpath simulator, as batched pymoo problems."""

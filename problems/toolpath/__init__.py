@@ -1,0 +1,1 @@
+"""Finish-machining toolpath simulator for free-form surfaces."""
