@@ -150,7 +150,9 @@ def run(
         state.evaluations += len(G)
         if result.failed.any():
             state.failures += int(result.failed.sum())
-            state.errors.extend(result.errors[: MAX_ERRORS_KEPT - len(state.errors)])
+            for message in dict.fromkeys(result.errors):  # distinct messages, the first few
+                if message not in state.errors and len(state.errors) < MAX_ERRORS_KEPT:
+                    state.errors.append(message)
         i = int(np.argmin(result.f))
         if result.f[i] < state.best_f:
             state.best_f, state.best_g = float(result.f[i]), G[i].copy()

@@ -64,6 +64,6 @@ class Evaluator:
             if not errors:  # the batch failed but no row did: report the batch error
                 errors.append(f"{type(batch_error).__name__}: {batch_error}")
         failed = ~np.isfinite(f)
-        if failed.any() and len(errors) < failed.sum():
-            errors.append(f"non-finite objective value for {int(failed.sum())} individual(s)")
+        if np.isfinite(f).sum() + len(errors) < len(f):  # failures that raised nothing
+            errors.append("the objective returned a non-finite value (NaN or inf)")
         return Evaluation(np.where(failed, np.inf, f), failed, errors)

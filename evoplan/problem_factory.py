@@ -1,7 +1,8 @@
 """Problems by name, and the binary variable space of a problem.
 
-Names: ``kubota`` (Fountas Eq. 13), ``toolpath`` (the machining simulator, when installed), and
-any pymoo test problem (``rastrigin``, ``ackley``, ``griewank``, ``rosenbrock``, ``schwefel``,
+Names: ``kubota`` (Fountas Eq. 13), ``toolpath`` (the machining simulator), ``module:Class``
+for a problem of your own (a pymoo ``Problem`` subclass importable from ``module``), and any
+pymoo test problem (``rastrigin``, ``ackley``, ``griewank``, ``rosenbrock``, ``schwefel``,
 ``sphere``, ``zakharov``, ``g1``...), built with ``pymoo.problems.get_problem(name, **params)``.
 
 A problem declares its variables either as pymoo variables in a ``variables`` attribute
@@ -31,11 +32,14 @@ def register(name: str, target: str) -> None:
 
 
 def _factory(name: str) -> Callable[..., Problem] | None:
-    target = PROBLEMS.get(name.lower())
+    target = name if ":" in name else PROBLEMS.get(name.lower())
     if target is None:
         return None
-    module, attr = target.split(":")
-    return getattr(importlib.import_module(module), attr)
+    module, _, attr = target.partition(":")
+    try:
+        return getattr(importlib.import_module(module), attr)
+    except (ImportError, AttributeError) as e:
+        raise ValueError(f"cannot import problem {target!r}: {e}") from None
 
 
 def make_problem(name: str, params: dict[str, Any] | None = None) -> Problem:
@@ -43,11 +47,11 @@ def make_problem(name: str, params: dict[str, Any] | None = None) -> Problem:
     params = dict(params or {})
     factory = _factory(name)
     try:
-        if factory is not None:
-            return factory(**params)
-        from pymoo.problems import get_problem
+        if factory is None:
+            from pymoo.problems import get_problem
 
-        return get_problem(name, **params)
+            return get_problem(name, **params)
+        problem = factory(**params)
     except TypeError as e:
         raise ValueError(f"bad parameters for problem {name!r}: {e}") from None
     except Exception as e:  # pymoo raises a bare Exception("Problem not found.")
@@ -56,6 +60,9 @@ def make_problem(name: str, params: dict[str, Any] | None = None) -> Problem:
                 f"unknown problem {name!r} (evoplan: {', '.join(sorted(PROBLEMS))}, or any pymoo test problem)"
             ) from None
         raise ValueError(f"cannot build problem {name!r}: {e}") from None
+    if not isinstance(problem, Problem):
+        raise ValueError(f"{name!r} did not build a pymoo Problem (got {type(problem).__name__})")
+    return problem
 
 
 def declared_variables(problem: Problem, bits: int) -> list:

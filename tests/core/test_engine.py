@@ -1,0 +1,107 @@
+import numpy as np
+import pytest
+
+from evoplan.config import parse_config
+from evoplan.engine import Checkpointer, Termination, run
+from evoplan.runner import prepare
+
+
+class Stop(Exception):
+    pass
+
+
+def prepared(algorithm="vega", problem="kubota", **termination):
+    cfg = parse_config({
+        "seed": 7,
+        "problem": {"name": problem},
+        "algorithm": {"name": algorithm, "population": 12},
+        "termination": termination or {"generations": 15},
+    })
+    return prepare(cfg)
+
+
+def history(state):
+    return [row[:-1] for row in state.history]  # all but wall seconds
+
+
+@pytest.mark.parametrize("algorithm", ["ga", "vega"])
+def test_same_seed_same_history_other_seed_other_history(algorithm):
+    p = prepared(algorithm)
+    a = run(p.new_state(), p.space, p.evaluator, p.termination)
+    b = run(p.new_state(), p.space, p.evaluator, p.termination)
+    assert history(a) == history(b) and a.best_f == b.best_f
+    q = prepare(p.config.model_copy(update={"seed": 8}))
+    c = run(q.new_state(), q.space, q.evaluator, q.termination)
+    assert history(c) != history(a)
+
+
+@pytest.mark.parametrize("algorithm", ["ga", "vega"])
+def test_resume_after_interruption_gives_the_identical_result(tmp_path, algorithm):
+    p = prepared(algorithm, generations=20)
+    full = run(p.new_state(), p.space, p.evaluator, p.termination)
+
+    path = tmp_path / "checkpoint.pkl"
+
+    def crash_at_9(state):
+        if state.algorithm.generation == 9:
+            raise Stop
+
+    with pytest.raises(Stop):
+        run(p.new_state(), p.space, p.evaluator, p.termination, Checkpointer(path, every_generations=4), crash_at_9)
+    state = Checkpointer.load(path)
+    assert state.algorithm.generation == 8  # the last checkpoint before the crash
+    resumed = run(state, p.space, p.evaluator, p.termination, Checkpointer(path, every_generations=4))
+    assert history(resumed) == history(full)
+    assert resumed.best_f == full.best_f and np.array_equal(resumed.best_g, full.best_g)
+    assert resumed.evaluations == full.evaluations
+
+
+def test_every_evaluation_is_counted_including_infections():
+    p = prepared("vega", generations=10)
+    calls = []
+    inner = p.evaluator
+
+    def counting(X):
+        calls.append(len(X))
+        return inner(X)
+
+    state = run(p.new_state(), p.space, counting, p.termination)
+    assert state.evaluations == sum(calls)
+    assert len(calls) > 11  # infections are evaluated in batches of their own
+    assert state.history[-1][1] == state.evaluations
+
+
+def test_termination_by_evaluations_target_and_seconds():
+    p = prepared("vega", evaluations=500)
+    state = run(p.new_state(), p.space, p.evaluator, p.termination)
+    assert state.stop_reason == "evaluations" and state.evaluations >= 500
+    per_gen = np.diff([row[1] for row in state.history])
+    assert state.evaluations - 500 < per_gen.max()  # stops within one generation of the budget
+
+    p = prepared("ga", generations=10_000, target=0.05)
+    state = run(p.new_state(), p.space, p.evaluator, p.termination)
+    assert state.stop_reason == "target" and state.best_f <= 0.05
+
+    p = prepared("ga", seconds=0.2)
+    state = run(p.new_state(), p.space, p.evaluator, p.termination)
+    assert state.stop_reason == "seconds" and 0.2 <= state.elapsed < 2
+
+
+def test_failures_are_penalized_counted_and_the_run_goes_on():
+    p = prepared("ga", problem="tests.blackboxes:Flaky", generations=10)
+    state = run(p.new_state(), p.space, p.evaluator, p.termination)
+    assert state.algorithm.generation == 10
+    assert state.failures > 0 and np.isfinite(state.best_f)
+    assert any("solver diverged" in e for e in state.errors)
+    assert any("non-finite" in e for e in state.errors)
+    assert np.isinf(state.algorithm.f).sum() <= state.failures
+
+
+def test_history_rows_are_consistent():
+    p = prepared("ga", generations=12)
+    state = run(p.new_state(), p.space, p.evaluator, p.termination)
+    rows = np.array([r[:-1] for r in state.history], dtype=float)
+    gen, evals, best, mean, worst, std = rows[:, :6].T
+    assert gen.tolist() == list(range(13))
+    assert (np.diff(evals) == 11).all()  # population 12, one elite not re-evaluated
+    assert (np.diff(best) <= 0).all() and (best <= mean).all() and (mean <= worst).all()

@@ -1,0 +1,80 @@
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from hypothesis.extra.numpy import arrays
+
+from evoplan.operators import viral
+
+hosts_st = st.tuples(st.integers(1, 10), st.integers(1, 60)).flatmap(
+    lambda s: st.tuples(arrays(bool, s), st.integers(1, 70), st.integers(0, 2**32 - 1))
+)
+
+
+@settings(max_examples=80, deadline=None)
+@given(hosts_st)
+def test_transduction_copies_exactly_a_host_substring(case):
+    hosts, max_len, seed = case
+    V, L = hosts.shape
+    start, length, bits = viral.transduction(hosts, max_len, np.random.default_rng(seed))
+    assert ((length >= 1) & (length <= min(max_len, L))).all()
+    assert ((start >= 0) & (start + length <= L)).all()
+    mask = viral.loci_mask(start, length, L)
+    assert (mask.sum(axis=1) == length).all()
+    assert np.array_equal(bits[mask], hosts[mask])  # a substring of its host, bit for bit
+    assert not bits[~mask].any()
+
+
+@settings(max_examples=80, deadline=None)
+@given(hosts_st, st.integers(0, 2**32 - 1))
+def test_reverse_transcription_writes_exactly_the_virus_loci(case, seed2):
+    hosts, max_len, seed = case
+    rng = np.random.default_rng(seed2)
+    donors = rng.random(hosts.shape) < 0.5
+    start, length, bits = viral.transduction(donors, max_len, np.random.default_rng(seed))
+    infected = viral.reverse_transcription(hosts, start, length, bits)
+    mask = viral.loci_mask(start, length, hosts.shape[1])
+    assert infected.shape == hosts.shape and infected.dtype == bool
+    assert np.array_equal(infected[mask], donors[mask])
+    assert np.array_equal(infected[~mask], hosts[~mask])
+
+
+@settings(max_examples=80, deadline=None)
+@given(hosts_st, st.integers(1, 5))
+def test_partial_transduction_grows_up_to_the_limit(case, growth):
+    hosts, max_len, seed = case
+    V, L = hosts.shape
+    rng = np.random.default_rng(seed)
+    start, length, bits = viral.transduction(rng.random((V, L)) < 0.5, max_len, rng)
+    s2, n2, b2 = viral.partial_transduction(start, length, bits, hosts, max_len, rng, growth)
+    cap = min(max_len, L)
+    assert np.array_equal(n2, np.maximum(np.minimum(length + growth, cap), length))
+    assert ((s2 >= 0) & (s2 + n2 <= L)).all()
+    old, new = viral.loci_mask(start, length, L), viral.loci_mask(s2, n2, L)
+    assert np.array_equal(b2[new & old], bits[new & old])  # kept loci keep the virus' bits
+    assert np.array_equal(b2[new & ~old], hosts[new & ~old])  # new loci come from the host
+    assert not b2[~new].any()
+
+
+def test_virus_fitness_is_the_sum_of_host_improvements():
+    # three viruses; virus 0 infects hosts with objectives 5 -> 3 and 4 -> 4.5, virus 2 one host 1 -> 0.25
+    f_before = np.array([5.0, 4.0, 1.0])
+    f_after = np.array([3.0, 4.5, 0.25])
+    gain = viral.infection_gain(f_before, f_after)
+    np.testing.assert_allclose(gain, [2.0, -0.5, 0.75])
+    fit = viral.virus_fitness(gain, np.array([0, 0, 2]), 3)
+    np.testing.assert_allclose(fit, [1.5, 0.0, 0.75])
+
+
+def test_failed_infection_counts_as_no_gain():
+    gain = viral.infection_gain(np.array([1.0, np.inf]), np.array([np.inf, 2.0]))
+    np.testing.assert_array_equal(gain, [0.0, 0.0])
+
+
+def test_life_and_infection_rate_rules():
+    life = viral.update_life(np.array([1.0, 1.0]), np.array([0.5, -2.0]), 0.1)
+    np.testing.assert_allclose(life, [0.6, -1.9])
+    rate = viral.adapt_infection_rate(np.array([0.7, 0.7, 0.95, 0.12]), np.array([1.0, -1.0, 1.0, -1.0]),
+                                      0.1, 0.1, 1.0)
+    np.testing.assert_allclose(rate, [0.77, 0.63, 1.0, 0.108 if 0.108 >= 0.1 else 0.1])
+    assert viral.adapt_infection_rate(np.array([0.5]), np.array([0.0]), 0.1, 0.2, 0.8)[0] == pytest.approx(0.5)
