@@ -64,6 +64,8 @@ class Evaluator:
             if not errors:  # the batch failed but no row did: report the batch error
                 errors.append(f"{type(batch_error).__name__}: {batch_error}")
         failed = ~np.isfinite(f)
-        if np.isfinite(f).sum() + len(errors) < len(f):  # failures that raised nothing
+        if not failed.any():
+            return Evaluation(f, failed, errors)
+        if len(errors) < failed.sum():  # failures that raised nothing
             errors.append("the objective returned a non-finite value (NaN or inf)")
         return Evaluation(np.where(failed, np.inf, f), failed, errors)

@@ -138,6 +138,7 @@ class Space:
         self._count = np.array([_count(v) for v in self.variables], dtype=float)
         self._levels = 2.0**self.bits
         self._is_real = np.array([v.kind == "real" for v in self.variables])
+        self._all_real = bool(self._is_real.all())
         span = np.array([v.high - v.low if v.kind == "real" else 0.0 for v in self.variables])
         self._real_scale = np.where(self._is_real, span / (self._levels - 1), 0.0)
 
@@ -161,6 +162,8 @@ class Space:
     def decode(self, G: np.ndarray) -> np.ndarray:
         """Phenotypes ``X: (n, d)``: Eq. 8 for reals, equal-width bins for integers and choices."""
         K = self.integers(G)
+        if self._all_real:
+            return self._low + K * self._real_scale
         binned = self._low + np.minimum(np.floor(K * self._count / self._levels), self._count - 1)
         return np.where(self._is_real, self._low + K * self._real_scale, binned)
 

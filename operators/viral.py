@@ -48,6 +48,24 @@ def reverse_transcription(
     return np.where(loci_mask(start, length, hosts.shape[1]), bits, hosts)
 
 
+def infect(
+    G: np.ndarray, host: np.ndarray, virus: np.ndarray,
+    start: np.ndarray, length: np.ndarray, bits: np.ndarray,
+) -> np.ndarray:
+    """Reverse transcription of many ``(virus, host)`` pairs at once: ``(P, L)`` infected hosts.
+
+    Row ``p`` is host ``G[host[p]]`` with the loci of virus ``virus[p]`` overwritten by its bits,
+    exactly :func:`reverse_transcription`; ``virus`` must be sorted (as ``np.nonzero`` of a
+    virus-by-host matrix gives it), so that each virus writes one rectangular block.
+    """
+    out = G[host]
+    bounds = np.searchsorted(virus, np.arange(start.size + 1))
+    for v in np.flatnonzero(bounds[1:] > bounds[:-1]):
+        s, e = start[v], start[v] + length[v]
+        out[bounds[v] : bounds[v + 1], s:e] = bits[v, s:e]
+    return out
+
+
 def partial_transduction(
     start: np.ndarray,
     length: np.ndarray,

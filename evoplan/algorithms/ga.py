@@ -39,7 +39,7 @@ class CrossoverConfig(_Strict):
 
 class MutationConfig(_Strict):
     kind: Literal["single_point", "per_bit"] = "single_point"
-    rate: float = Field(0.2, ge=0, le=1, description="per individual (single_point) or per bit")
+    rate: float = Field(0.5, ge=0, le=1, description="per individual (single_point) or per bit")
 
 
 class GAConfig(_Strict):

@@ -37,7 +37,7 @@ from typing import Literal
 import numpy as np
 from pydantic import Field, model_validator
 
-from ..operators import elitism, viral
+from ..operators import viral
 from .ga import GA, GAConfig, _Strict
 
 
@@ -103,19 +103,22 @@ class VEGA(GA):
 
     # -- rule 1: creation --------------------------------------------------------------------
     def source_hosts(self, count: int, exact: bool) -> np.ndarray:
-        """Hosts to transduce ``count`` new viruses from: elite with ``elite_share``, else random."""
+        """Hosts to transduce ``count`` new viruses from: elite with ``elite_share``, else random.
+
+        ``exact``: the first ``round(elite_share * count)`` are elite (initial creation);
+        otherwise each new virus is elite with probability ``elite_share`` (renewals).
+        """
         c = self.vc.creation
         N = self.f.size
         pool = min(c.elite_pool, N)
-        order = elitism.elite_indices(self.f, N)
+        order = np.argsort(np.where(np.isnan(self.f), np.inf, self.f), kind="stable")
         if exact:
             from_elite = np.arange(count) < round(c.elite_share * count)
         else:
             from_elite = self.rng.random(count) < c.elite_share
-        elite = order[self.rng.integers(0, pool, count)]
-        rest = order[pool:] if pool < N else order
-        others = rest[self.rng.integers(0, rest.size, count)]
-        return np.where(from_elite, elite, others)
+        rank = np.where(from_elite, self.rng.integers(0, pool, count),
+                        pool + self.rng.integers(0, max(N - pool, 1), count))
+        return order[np.minimum(rank, N - 1)]
 
     def create_viruses(self, which: np.ndarray, exact: bool = False) -> None:
         """Fresh transduction (Fig. 3a) for the viruses ``which``; they start with life 0."""
@@ -134,52 +137,56 @@ class VEGA(GA):
         return np.nonzero(hit)
 
     # -- rule 3: replacement ---------------------------------------------------------------------
-    def replace_hosts(self, host: np.ndarray, trials: np.ndarray, f_trial: np.ndarray) -> None:
-        """Each infected host takes its best infected version (if better, under ``improve``)."""
-        order = np.lexsort((np.where(np.isnan(f_trial), np.inf, f_trial), host))
-        first = np.ones(order.size, dtype=bool)
-        first[1:] = host[order][1:] != host[order][:-1]
-        best = order[first]  # the best trial of each infected host
-        h = host[best]
-        take = f_trial[best] < self.f[h] if self.vc.replacement == "improve" else np.ones(h.size, bool)
-        self.G[h[take]] = trials[best[take]]
-        self.f[h[take]] = f_trial[best[take]]
+    def replace_hosts(self, trial: np.ndarray, F: np.ndarray, trials: np.ndarray) -> None:
+        """Each infected host takes its best infected version (if better, under ``improve``).
+
+        ``trial: (V, N)`` index of the infection of host ``j`` by virus ``i`` in the batch (-1:
+        none), ``F: (V, N)`` its objective value (``inf`` where none), ``trials: (P, L)``.
+        """
+        N = self.f.size
+        best_virus = F.argmin(axis=0)
+        best = trial[best_virus, np.arange(N)]
+        best_f = F[best_virus, np.arange(N)]
+        take = (best >= 0) & np.isfinite(best_f)  # a failed infection never replaces a host
+        if self.vc.replacement == "improve":
+            take &= best_f < self.f
+        self.G[take] = trials[best[take]]
+        self.f[take] = best_f[take]
 
     # -- rules 4-6: virus bookkeeping ------------------------------------------------------------
-    def update_viruses(self, virus: np.ndarray, trials: np.ndarray, gain: np.ndarray) -> None:
-        """Eq. 12 fitness, life force, infection-rate adaptation, then renew or extend viruses."""
-        V = self.vc.count
-        fitvirus = viral.virus_fitness(gain, virus, V)
+    def update_viruses(self, trial: np.ndarray, gain: np.ndarray, trials: np.ndarray) -> None:
+        """Eq. 12 fitness, life force, infection-rate adaptation, then renew or extend viruses.
+
+        ``trial: (V, N)`` as in :meth:`replace_hosts`; ``gain: (V, N)`` the Eq. 11 gain of each
+        infection (0 where none).
+        """
+        fitvirus = gain.sum(axis=1)  # Eq. 12 (operators.viral.virus_fitness on the dense layout)
         old_life = self.life
         self.life = viral.update_life(old_life, fitvirus, self.vc.infectivity_force)
         self.rate = viral.adapt_infection_rate(
             self.rate, fitvirus, self.vc.rate_step, self.vc.min_infection_rate, self.vc.max_infection_rate
         )
         renew = (self.life < 0) | (self.life < old_life)
-        grow = (self.life > old_life) & ~renew
+        grow = self.life > old_life  # implies life >= 0 and a gain this generation
         if grow.any():
-            # the trial in which each growing virus gained most
-            best_trial = np.full(V, -1)
-            order = np.lexsort((-gain, virus))
-            first = np.ones(order.size, dtype=bool)
-            first[1:] = virus[order][1:] != virus[order][:-1]
-            best_trial[virus[order[first]]] = order[first]
-            idx = np.flatnonzero(grow & (best_trial >= 0))
+            # the infected host (its infected version) each growing virus improved most
+            best_host = np.where(trial >= 0, gain, -np.inf).argmax(axis=1)
+            idx = np.flatnonzero(grow)
+            source = trial[idx, best_host[idx]]
             s, n, b = viral.partial_transduction(
-                self.start[idx], self.length[idx], self.bits[idx], trials[best_trial[idx]],
+                self.start[idx], self.length[idx], self.bits[idx], trials[source],
                 self.vc.max_length, self.rng, self.vc.growth,
             )
             self.start[idx], self.length[idx], self.bits[idx] = s, n, b
-        self.create_viruses(np.flatnonzero(renew))
+        if renew.any():
+            self.create_viruses(np.flatnonzero(renew))
 
     # -- ask / tell ------------------------------------------------------------------------------
     def ask(self) -> np.ndarray:
         if self.phase == "hosts":
             return super().ask()
         virus, host = self._pairs
-        self._batch = viral.reverse_transcription(
-            self.G[host], self.start[virus], self.length[virus], self.bits[virus]
-        )
+        self._batch = viral.infect(self.G, host, virus, self.start, self.length, self.bits)
         return self._batch
 
     def hosts_evaluated(self) -> bool:
@@ -189,7 +196,8 @@ class VEGA(GA):
             return True
         virus, host = self.infections()
         if virus.size == 0:
-            self.update_viruses(virus, np.zeros((0, self.n_bits), bool), np.zeros(0))
+            none = np.full((self.vc.count, self.f.size), -1)
+            self.update_viruses(none, np.zeros(none.shape), np.zeros((0, self.n_bits), bool))
             self.generation += 1
             return True
         self._pairs, self.phase = (virus, host), "infection"
@@ -201,9 +209,15 @@ class VEGA(GA):
         f = np.asarray(f, dtype=float)
         virus, host = self._pairs
         trials = self._batch
-        gain = viral.infection_gain(self.f[host], f)  # before the hosts are replaced
-        self.replace_hosts(host, trials, f)
-        self.update_viruses(virus, trials, gain)
+        shape = (self.vc.count, self.f.size)
+        trial = np.full(shape, -1)
+        trial[virus, host] = np.arange(virus.size)
+        F = np.full(shape, np.inf)
+        F[virus, host] = f
+        gain = np.zeros(shape)
+        gain[virus, host] = viral.infection_gain(self.f[host], f)  # before the hosts are replaced
+        self.replace_hosts(trial, F, trials)
+        self.update_viruses(trial, gain, trials)
         self._pairs, self._batch, self.phase = None, None, "hosts"
         self.generation += 1
         return True

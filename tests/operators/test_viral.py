@@ -78,3 +78,14 @@ def test_life_and_infection_rate_rules():
                                       0.1, 0.1, 1.0)
     np.testing.assert_allclose(rate, [0.77, 0.63, 1.0, 0.108 if 0.108 >= 0.1 else 0.1])
     assert viral.adapt_infection_rate(np.array([0.5]), np.array([0.0]), 0.1, 0.2, 0.8)[0] == pytest.approx(0.5)
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(1, 8), st.integers(1, 20), st.integers(1, 50), st.integers(0, 2**32 - 1))
+def test_batched_infection_equals_pairwise_reverse_transcription(V, N, L, seed):
+    rng = np.random.default_rng(seed)
+    G = rng.random((N, L)) < 0.5
+    start, length, bits = viral.transduction(rng.random((V, L)) < 0.5, L, rng)
+    virus, host = np.nonzero(rng.random((V, N)) < 0.6)
+    expected = viral.reverse_transcription(G[host], start[virus], length[virus], bits[virus])
+    assert np.array_equal(viral.infect(G, host, virus, start, length, bits), expected)
