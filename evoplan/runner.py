@@ -25,7 +25,6 @@ from .config import RunConfig, load_config, read_yaml
 from .engine import HISTORY_COLUMNS, Checkpointer, RunState, Termination, run, write_atomic
 from .errors import ConfigError
 from .evaluation import Evaluator
-from .plots import convergence_png
 from .problem_factory import build_space, make_problem
 from .space import Space
 
@@ -174,6 +173,8 @@ def write_results(prepared: Prepared, state: RunState, out: Path) -> None:
     record = best_record(prepared, state)
     write_atomic(out / "best.json", (json.dumps(record, indent=2) + "\n").encode())
     if prepared.config.output.plot:
+        from .plots import convergence_png  # matplotlib loads only when a figure is drawn
+
         title = f"{prepared.config.name}: {prepared.config.algorithm.name} on {prepared.config.problem.name}"
         write_atomic(out / "convergence.png", convergence_png(history, title))
 

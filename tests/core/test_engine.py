@@ -105,3 +105,39 @@ def test_history_rows_are_consistent():
     assert gen.tolist() == list(range(13))
     assert (np.diff(evals) == 11).all()  # population 12, one elite not re-evaluated
     assert (np.diff(best) <= 0).all() and (best <= mean).all() and (mean <= worst).all()
+
+
+@pytest.mark.parametrize("name, params", [("rastrigin", {"n_var": 10}), ("ackley", {}), ("griewank", {}),
+                                          ("rosenbrock", {}), ("schwefel", {}), ("sphere", {"n_var": 3})])
+def test_pymoo_test_problems_run_by_name(name, params):
+    cfg = parse_config({"problem": {"name": name, "params": params, "bits": 16},
+                        "algorithm": {"name": "ga", "population": 30}, "termination": {"generations": 30}})
+    p = prepare(cfg)
+    state = run(p.new_state(), p.space, p.evaluator, p.termination)
+    first_mean = state.history[0][3]
+    assert p.space.n_var == p.evaluator.problem.n_var
+    assert state.best_f < first_mean  # it optimizes
+
+
+def test_constrained_pymoo_problem_is_penalized():
+    cfg = parse_config({"problem": {"name": "g1", "bits": 12}, "algorithm": {"name": "ga", "population": 40},
+                        "termination": {"generations": 40}})
+    p = prepare(cfg)
+    X = np.zeros((1, 13))
+    X[0, 9:12] = 100.0  # 2 x1 + 2 x2 + x10 + x11 - 10 = 190 > 0: infeasible
+    raw = p.evaluator.problem.evaluate(X, return_as_dictionary=True)
+    violation = np.maximum(raw["G"], 0).sum()
+    assert violation > 0
+    assert p.evaluator(X).f[0] == pytest.approx(raw["F"][0, 0] + 1e6 * violation)
+    state = run(p.new_state(), p.space, p.evaluator, p.termination)
+    assert np.isfinite(state.best_f)
+
+
+def test_gray_coding_and_per_variable_bits():
+    cfg = parse_config({"problem": {"name": "kubota", "gray": True, "variables": {"x": {"bits": 10, "low": -0.5}}},
+                        "algorithm": {"name": "vega"}, "termination": {"generations": 5}})
+    p = prepare(cfg)
+    assert p.space.n_bits == 33 and p.space.gray
+    assert p.space.variables[0].low == -0.5 and p.space.variables[0].high == 1.0
+    state = run(p.new_state(), p.space, p.evaluator, p.termination)
+    assert np.isfinite(state.best_f)
