@@ -74,7 +74,9 @@ class RunState:
 
     def record(self) -> None:
         """Append the history row of the generation that just ended."""
-        f = self.algorithm.f[np.isfinite(self.algorithm.f)]
+        f = self.algorithm.f
+        if not np.isfinite(f).all():
+            f = f[np.isfinite(f)]
         stats = (f.mean(), f.max(), f.std()) if f.size else (np.nan, np.nan, np.nan)
         self.history.append(
             (self.algorithm.generation, self.evaluations, self.best_f, *map(float, stats),

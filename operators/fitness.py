@@ -24,26 +24,24 @@ import numpy as np
 def normalize(f: np.ndarray, method: str = "rank") -> np.ndarray:
     """Objective values ``f: (n,)`` (minimized) to ``[0, 1]``, 0 for the best; non-finite -> 1."""
     f = np.asarray(f, dtype=float)
-    finite = np.isfinite(f)
     n = f.size
+    finite = np.isfinite(f)
+    all_finite = bool(finite.all())
     if n <= 1 or not finite.any():
         return np.where(finite, 0.0, 1.0)
     if method == "rank":
-        order = np.argsort(np.where(finite, f, np.inf), kind="stable")
         ranks = np.empty(n)
-        ranks[order] = np.arange(n)
+        ranks[np.argsort(f if all_finite else np.where(finite, f, np.inf), kind="stable")] = np.arange(n)
         return ranks / (n - 1)
     if method == "minmax":
-        lo, hi = f[finite].min(), f[finite].max()
-        span = hi - lo
-        v = (f - lo) / span if span > 0 else np.zeros(n)
-        return np.where(finite, v, 1.0)
+        lo, hi = (f.min(), f.max()) if all_finite else (f[finite].min(), f[finite].max())
+        v = (f - lo) / (hi - lo) if hi > lo else np.zeros(n)
+        return v if all_finite else np.where(finite, v, 1.0)
     raise ValueError(f"unknown normalization {method!r} (rank, minmax)")
 
 
 def exponential_fitness(f: np.ndarray, method: str = "rank", pressure: float = 1.0) -> np.ndarray:
     """Fountas Eq. 10 on normalized objective values: ``(n,) -> (n,)`` positive, larger is fitter."""
     v = normalize(f, method) * pressure
-    finite = np.isfinite(f)
-    fitsum = float(np.abs(f[finite]).sum()) if finite.any() else 1.0
-    return (fitsum if fitsum > 0 else 1.0) * np.exp(-(v**2))
+    fitsum = float(np.abs(f[np.isfinite(f)]).sum())
+    return (fitsum if fitsum > 0 else 1.0) * np.exp(-(v * v))
