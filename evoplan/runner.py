@@ -177,6 +177,27 @@ def write_results(prepared: Prepared, state: RunState, out: Path) -> None:
 
         title = f"{prepared.config.name}: {prepared.config.algorithm.name} on {prepared.config.problem.name}"
         write_atomic(out / "convergence.png", convergence_png(history, title))
+    write_artifacts(prepared, state, out)
+
+
+def write_artifacts(prepared: Prepared, state: RunState, out: Path) -> None:
+    """Files the problem makes of the best solution (``artifacts(x) -> {file name: bytes}``).
+
+    A problem opts in by defining ``artifacts``; the toolpath problem draws its CC pattern and
+    writes an APT CL file this way. A failure here is reported but loses none of the results.
+    """
+    artifacts = getattr(prepared.evaluator.problem, "artifacts", None)
+    if not callable(artifacts) or state.best_g is None:
+        return
+    x = prepared.space.decode(state.best_g[None, :])[0]
+    try:
+        files = artifacts(x)
+    except Exception as e:  # noqa: BLE001 - a problem's plotting or export must not sink the run
+        print(f"evoplan: warning: the problem's result files were not written: {type(e).__name__}: {e}",
+              file=sys.stderr)
+        return
+    for name, data in files.items():
+        write_atomic(out / Path(name).name, data)
 
 
 def resume_seed(out: Path) -> int | None:

@@ -172,3 +172,18 @@ def test_resume_refuses_another_configuration(tmp_path):
     assert proc.returncode == 2 and "algorithm" in proc.stderr
     proc = evoplan("run", cfg, "--resume", tmp_path / "nothing")
     assert proc.returncode == 2 and "no checkpoint.pkl" in proc.stderr
+
+
+def test_evaluate_prints_one_parameter_set(tmp_path):
+    cfg = write(tmp_path / "k.yaml", GOOD)
+    proc = evoplan("evaluate", cfg, "--set", "x=0", "--set", "y=0")
+    assert proc.returncode == 0, proc.stderr
+    report = json.loads(proc.stdout)
+    assert report["variables"] == {"x": 0, "y": 0} and report["objective"] == pytest.approx(0.0, abs=1e-15)
+    for args, message in [(("--set", "x=3", "--set", "y=0"), "outside its range"),
+                          (("--set", "x=0"), "missing --set for: y"),
+                          (("--set", "x=0", "--set", "y=0", "--set", "q=1"), "no such variable"),
+                          (("--set", "x=zero", "--set", "y=0"), "expected a number")]:
+        proc = evoplan("evaluate", cfg, *args)
+        assert proc.returncode == 2 and message in proc.stderr
+        assert len(proc.stderr.strip().splitlines()) == 1
