@@ -90,8 +90,6 @@ class VEGA(GA):
     def __init__(self, config: VEGAConfig, n_bits: int, rng: np.random.Generator) -> None:
         super().__init__(config, n_bits, rng)
         v = config.virus
-        if config.population < 2:
-            raise ValueError("VEGA needs at least two hosts")
         self.vc = v
         self.start = np.zeros(v.count, dtype=np.int64)
         self.length = np.zeros(v.count, dtype=np.int64)
