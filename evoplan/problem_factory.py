@@ -46,23 +46,31 @@ def make_problem(name: str, params: dict[str, Any] | None = None) -> Problem:
     """Build a problem by name; ``ValueError`` with a one-line message if it cannot be."""
     params = dict(params or {})
     factory = _factory(name)
+    if factory is None:
+        factory = _pymoo_factory(name)
     try:
-        if factory is None:
-            from pymoo.problems import get_problem
-
-            return get_problem(name, **params)
         problem = factory(**params)
     except TypeError as e:
         raise ValueError(f"bad parameters for problem {name!r}: {e}") from None
+    except Exception as e:  # noqa: BLE001 - a problem's own validation error, in one line
+        raise ValueError(f"cannot build problem {name!r}: {e}") from None
+    if not isinstance(problem, Problem):
+        raise ValueError(f"{name!r} did not build a pymoo Problem (got {type(problem).__name__})")
+    return problem
+
+
+def _pymoo_factory(name: str) -> Callable[..., Problem]:
+    """pymoo's test problem ``name``, checked to exist before any parameter is passed."""
+    from pymoo.problems import get_problem
+
+    try:
+        get_problem(name)
     except Exception as e:  # pymoo raises a bare Exception("Problem not found.")
         if "not found" in str(e).lower():
             raise ValueError(
                 f"unknown problem {name!r} (evoplan: {', '.join(sorted(PROBLEMS))}, or any pymoo test problem)"
             ) from None
-        raise ValueError(f"cannot build problem {name!r}: {e}") from None
-    if not isinstance(problem, Problem):
-        raise ValueError(f"{name!r} did not build a pymoo Problem (got {type(problem).__name__})")
-    return problem
+    return lambda **params: get_problem(name, **params)
 
 
 def declared_variables(problem: Problem, bits: int) -> list:
