@@ -13,6 +13,7 @@ pymoo's test problems, only through ``xl``/``xu`` (real variables ``x1..xd``).
 from __future__ import annotations
 
 import importlib
+import inspect
 from typing import Any, Callable
 
 import numpy as np
@@ -23,6 +24,7 @@ from .space import Categorical, Integer, Real, Space
 # name -> "module:attribute"; imported on first use so a problem's dependencies load only when used
 PROBLEMS: dict[str, str] = {
     "kubota": "evoplan.problems.benchmarks:Kubota",
+    "toolpath": "evoplan.problems.toolpath:ToolpathProblem",
 }
 
 
@@ -42,12 +44,18 @@ def _factory(name: str) -> Callable[..., Problem] | None:
         raise ValueError(f"cannot import problem {target!r}: {e}") from None
 
 
-def make_problem(name: str, params: dict[str, Any] | None = None) -> Problem:
-    """Build a problem by name; ``ValueError`` with a one-line message if it cannot be."""
+def make_problem(name: str, params: dict[str, Any] | None = None, base_dir: str | None = None) -> Problem:
+    """Build a problem by name; ``ValueError`` with a one-line message if it cannot be.
+
+    ``base_dir`` (the run file's folder) is passed to problems that take one and were not
+    given one, so that files a run file names (a surface's control net) resolve beside it.
+    """
     params = dict(params or {})
     factory = _factory(name)
     if factory is None:
         factory = _pymoo_factory(name)
+    elif base_dir is not None and "base_dir" not in params and _accepts(factory, "base_dir"):
+        params["base_dir"] = base_dir
     try:
         problem = factory(**params)
     except TypeError as e:
@@ -57,6 +65,13 @@ def make_problem(name: str, params: dict[str, Any] | None = None) -> Problem:
     if not isinstance(problem, Problem):
         raise ValueError(f"{name!r} did not build a pymoo Problem (got {type(problem).__name__})")
     return problem
+
+
+def _accepts(factory: Callable, name: str) -> bool:
+    try:
+        return name in inspect.signature(factory).parameters
+    except (TypeError, ValueError):
+        return False
 
 
 def _pymoo_factory(name: str) -> Callable[..., Problem]:

@@ -56,7 +56,8 @@ def prepare(config: RunConfig, source: str = "<config>") -> Prepared:
     """Build problem, space and evaluator; any bad setting is a one-line ``ConfigError``."""
     p = config.problem
     try:
-        problem = make_problem(p.name, p.params)
+        base_dir = str(Path(source).resolve().parent) if Path(source).is_file() else None
+        problem = make_problem(p.name, p.params, base_dir)
     except ValueError as e:
         raise ConfigError(f"{source}: problem: {e}") from None
     try:

@@ -1,0 +1,48 @@
+"""The CC pattern of a toolpath drawn on its surface (the analog of Fountas' Fig. 2)."""
+
+from __future__ import annotations
+
+import io
+
+import numpy as np
+
+
+def cc_pattern_png(surface, points: np.ndarray, pass_index: np.ndarray, title: str = "",
+                   color: np.ndarray | None = None, color_label: str = "") -> bytes:
+    """PNG bytes: the surface (3D wireframe) with the CC points, and a plan view (XY).
+
+    ``points: (m, 3)`` CC points in machining order, ``pass_index: (m,)``; ``color: (m,)``
+    an optional per-point value (e.g. the chord error) for the plan view.
+    """
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    g = np.linspace(0.0, 1.0, 41)
+    U, V = np.meshgrid(g, g)
+    S = surface.points(U.ravel(), V.ravel()).reshape(41, 41, 3)
+    fig = plt.figure(figsize=(11, 4.8), dpi=110)
+    ax = fig.add_subplot(1, 2, 1, projection="3d")
+    ax.plot_wireframe(S[..., 0], S[..., 1], S[..., 2], color="0.75", linewidth=0.4)
+    starts = np.flatnonzero(np.r_[True, pass_index[1:] != pass_index[:-1], True])
+    for a, b in zip(starts[:-1], starts[1:]):
+        ax.plot(points[a:b, 0], points[a:b, 1], points[a:b, 2], lw=0.8, color="tab:blue")
+    ax.scatter(points[:, 0], points[:, 1], points[:, 2], s=3, color="tab:red", depthshade=False)
+    ax.set_xlabel("X (mm)"), ax.set_ylabel("Y (mm)"), ax.set_zlabel("Z (mm)")
+    ax.set_title(f"{len(points)} CC points, {len(starts) - 1} passes")
+    ax2 = fig.add_subplot(1, 2, 2)
+    ax2.contour(S[..., 0], S[..., 1], S[..., 2], levels=12, colors="0.8", linewidths=0.5)
+    ax2.plot(points[:, 0], points[:, 1], lw=0.5, color="0.5")
+    sc = ax2.scatter(points[:, 0], points[:, 1], s=5, c=color if color is not None else "tab:red", cmap="viridis")
+    if color is not None:
+        fig.colorbar(sc, ax=ax2, label=color_label)
+    ax2.set_aspect("equal")
+    ax2.set_xlabel("X (mm)"), ax2.set_ylabel("Y (mm)")
+    ax2.set_title("plan view")
+    fig.suptitle(title)
+    fig.tight_layout()
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png")
+    plt.close(fig)
+    return buf.getvalue()

@@ -1,0 +1,201 @@
+"""Surfaces from plain data (as they come from a YAML ``params:`` mapping), validated once.
+
+Accepted forms of ``surface``:
+
+- ``"fountas"`` / ``{"type": "fountas"}``: Fountas et al. Eq. 14.
+- ``"choi"`` / ``{"type": "choi"}``: Choi's bicubic Bezier surface (Djebali Table 3).
+- ``{"type": "bezier", "poles": NET, "degree": [p, q]}``: NET of shape (p+1, q+1, 3);
+  ``degree`` is optional (then any (p+1, q+1, 3) net with p, q >= 1 is accepted).
+- ``{"type": "bspline", "poles": NET, "degree": [p, q] (default [3, 3]),
+  "knots_u": [...], "knots_v": [...]}``: knots optional (clamped uniform).
+
+Optional for every type: ``flip_normal: true`` (the tool side is opposite to the default,
+which is the side with +z at the domain centre).
+
+NET is a nested list ``poles[i][j] = [x, y, z]`` (i along u, j along v), or the path of a
+file holding it (relative paths are taken from ``base_dir``, the config file's folder):
+
+- ``.json`` / ``.yaml`` / ``.yml``: the nested list, or a mapping with a ``poles`` key;
+- ``.csv``: one pole per row ``i,j,x,y,z`` (an optional header row is skipped), every
+  (i, j) of the grid exactly once.
+
+Errors are ``ValueError`` with one line starting with the key path, e.g.
+``surface.poles: expected shape (4, 4, 3), got (3, 4, 3)``.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+from pathlib import Path
+
+import numpy as np
+
+from .bezier import BezierSurface, choi_surface
+from .bspline import BSplineSurface
+from .surface import Surface, fountas_surface
+
+__all__ = ["parse_surface", "load_poles"]
+
+_KEYS = {
+    "fountas": {"type", "flip_normal"},
+    "choi": {"type", "flip_normal"},
+    "bezier": {"type", "poles", "degree", "flip_normal"},
+    "bspline": {"type", "poles", "degree", "knots_u", "knots_v", "flip_normal"},
+}
+
+
+def _fail(key: str, msg: str):
+    raise ValueError(f"{key}: {msg}")
+
+
+def load_poles(source, key: str = "surface.poles", base_dir=None) -> np.ndarray:
+    """A control net (nu, nv, 3) float from a nested list or a file path (see module doc)."""
+    if isinstance(source, (str, Path)):
+        path = Path(source)
+        if not path.is_absolute() and base_dir is not None:
+            path = Path(base_dir) / path
+        if not path.is_file():
+            _fail(key, f"file not found: {path}")
+        suffix = path.suffix.lower()
+        try:
+            if suffix == ".json":
+                data = json.loads(path.read_text())
+            elif suffix in (".yaml", ".yml"):
+                import yaml
+
+                data = yaml.safe_load(path.read_text())
+            elif suffix == ".csv":
+                return _poles_from_csv(path, key)
+            else:
+                _fail(key, f"unsupported file type {suffix!r} (use .json, .yaml or .csv)")
+        except (OSError, ValueError) as exc:
+            if str(exc).startswith(key):
+                raise
+            _fail(key, f"cannot read {path}: {str(exc).splitlines()[0]}")
+        if isinstance(data, dict):
+            if "poles" not in data:
+                _fail(key, f"{path} has no 'poles' key")
+            data = data["poles"]
+        source = data
+    try:
+        net = np.array(source, dtype=float)
+    except (TypeError, ValueError):
+        _fail(key, "expected a nested list poles[i][j] = [x, y, z] of numbers")
+    return net
+
+
+def _poles_from_csv(path: Path, key: str) -> np.ndarray:
+    rows = []
+    with path.open(newline="") as fh:
+        for n, row in enumerate(csv.reader(fh)):
+            if not row or all(not c.strip() for c in row):
+                continue
+            try:
+                vals = [float(c) for c in row]
+            except ValueError:
+                if n == 0:
+                    continue  # header
+                _fail(key, f"{path} line {n + 1}: expected numbers i,j,x,y,z, got {row}")
+            if len(vals) != 5:
+                _fail(key, f"{path} line {n + 1}: expected 5 columns i,j,x,y,z, got {len(vals)}")
+            rows.append(vals)
+    if not rows:
+        _fail(key, f"{path} holds no poles")
+    a = np.array(rows)
+    ij = a[:, :2]
+    if np.any(ij != np.round(ij)) or np.any(ij < 0):
+        _fail(key, f"{path}: i, j must be non-negative integers")
+    nu, nv = int(ij[:, 0].max()) + 1, int(ij[:, 1].max()) + 1
+    net = np.full((nu, nv, 3), np.nan)
+    seen = np.zeros((nu, nv), int)
+    for i, j, x, y, z in rows:
+        net[int(i), int(j)] = (x, y, z)
+        seen[int(i), int(j)] += 1
+    if np.any(seen != 1):
+        i, j = np.argwhere(seen != 1)[0]
+        _fail(key, f"{path}: pole ({i}, {j}) given {seen[i, j]} times (expected once)")
+    return net
+
+
+def _check_net(net: np.ndarray, key: str, expected=None) -> None:
+    if expected is not None and net.shape != expected:
+        _fail(key, f"expected shape {expected}, got {net.shape}")
+    if net.ndim != 3 or net.shape[2] != 3 or net.shape[0] < 2 or net.shape[1] < 2:
+        _fail(key, f"expected shape (nu, nv, 3) with nu, nv >= 2, got {net.shape}")
+    bad = ~np.isfinite(net)
+    if bad.any():
+        i, j, c = np.argwhere(bad)[0]
+        _fail(key, f"contains NaN or infinite values (first at [{i}][{j}][{c}])")
+
+
+def _degree(value, key: str) -> tuple[int, int]:
+    if isinstance(value, (int, np.integer)) and not isinstance(value, bool):
+        value = [value, value]
+    if (not isinstance(value, (list, tuple)) or len(value) != 2
+            or not all(isinstance(x, (int, np.integer)) and not isinstance(x, bool) and x >= 1
+                       for x in value)):
+        _fail(key, f"expected two integers >= 1 [p, q], got {value!r}")
+    return int(value[0]), int(value[1])
+
+
+def _knots(value, n_poles: int, degree: int, key: str):
+    if value is None:
+        return None
+    try:
+        t = np.array(value, dtype=float)
+    except (TypeError, ValueError):
+        _fail(key, "expected a list of numbers")
+    if t.ndim != 1 or len(t) != n_poles + degree + 1:
+        _fail(key, f"expected {n_poles + degree + 1} knots (poles + degree + 1), got {t.size}")
+    if not np.all(np.isfinite(t)) or np.any(np.diff(t) < 0):
+        _fail(key, "knots must be finite and non-decreasing")
+    if not t[-degree - 1] > t[degree]:
+        _fail(key, "the knot vector spans an empty parameter interval")
+    return t
+
+
+def parse_surface(spec, key: str = "surface", base_dir=None) -> Surface:
+    """Build a surface from plain data (see the module docstring)."""
+    if isinstance(spec, Surface):
+        return spec
+    if isinstance(spec, str):
+        spec = {"type": spec}
+    if not isinstance(spec, dict):
+        _fail(key, f"expected a name or a mapping, got {spec!r}")
+    kind = spec.get("type")
+    if kind not in _KEYS:
+        _fail(f"{key}.type", f"expected one of {', '.join(_KEYS)}, got {kind!r}")
+    unknown = set(spec) - _KEYS[kind]
+    if unknown:
+        _fail(key, f"unknown key(s) for a {kind} surface: {', '.join(sorted(unknown))}")
+    flip = spec.get("flip_normal", False)
+    if not isinstance(flip, bool):
+        _fail(f"{key}.flip_normal", f"expected true or false, got {flip!r}")
+    if kind == "fountas":
+        surf = fountas_surface()
+    elif kind == "choi":
+        surf = choi_surface()
+    else:
+        if "poles" not in spec:
+            _fail(f"{key}.poles", "missing")
+        net = load_poles(spec["poles"], f"{key}.poles", base_dir)
+        if kind == "bezier":
+            expected = None
+            if "degree" in spec:
+                p, q = _degree(spec["degree"], f"{key}.degree")
+                expected = (p + 1, q + 1, 3)
+            _check_net(net, f"{key}.poles", expected)
+            surf = BezierSurface(net)
+        else:
+            p, q = _degree(spec.get("degree", [3, 3]), f"{key}.degree")
+            _check_net(net, f"{key}.poles")
+            if net.shape[0] <= p or net.shape[1] <= q:
+                _fail(f"{key}.poles", f"a degree ({p}, {q}) B-spline needs at least "
+                      f"({p + 1}, {q + 1}, 3) poles, got {net.shape}")
+            tu = _knots(spec.get("knots_u"), net.shape[0], p, f"{key}.knots_u")
+            tv = _knots(spec.get("knots_v"), net.shape[1], q, f"{key}.knots_v")
+            surf = BSplineSurface(net, (p, q), tu, tv)
+    if flip:
+        surf.normal_sign = -surf.normal_sign
+    return surf
