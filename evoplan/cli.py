@@ -33,7 +33,7 @@ def main(argv: list[str] | None = None) -> int:
         print(f"evoplan: error: {e}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
-        print("evoplan: interrupted (the last checkpoint can be resumed with --resume)", file=sys.stderr)
+        print("evoplan: interrupted (resume a run with --resume DIR, a study by running it again)", file=sys.stderr)
         return 130
 
 

@@ -5,9 +5,10 @@ Layout of a run file::
     name: kubota_vega            # optional, defaults to the file name
     seed: 1
     problem: {name: kubota, params: {}, bits: 23, gray: false, variables: {x1: {bits: 20}}}
-    algorithm: {name: vega, population: 20, ..., virus: {count: 7, ...}}
+    algorithm: {name: vega, population: 20, ..., virus: {count: 7, ...}}   # or ga, pymoo_de, ...
     termination: {generations: 50, evaluations: null, target: null, seconds: null}
     checkpoint: {every_generations: null, every_seconds: 30}
+    evaluation: {backend: serial, workers: null, scheduler: null, chunks: null}
     output: {plot: true}
 
 Every error names the file, the key path and the problem, on one line.
@@ -16,11 +17,12 @@ Every error names the file, the key path and the problem, on one line.
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated, Any, Union
+from typing import Annotated, Any, Literal, Union
 
 import yaml
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 
+from .adapters import ADAPTERS
 from .algorithms.ga import GAConfig
 from .algorithms.vega import VEGAConfig
 from .errors import ConfigError
@@ -77,7 +79,22 @@ class OutputConfig(_Strict):
     plot: bool = True
 
 
-AlgorithmConfig = Annotated[Union[GAConfig, VEGAConfig], Field(discriminator="name")]
+class EvaluationConfig(_Strict):
+    """Where one population's evaluations run: here, local processes, or Dask workers.
+
+    For expensive black boxes (a CAM system, a slow simulator); a cheap vectorized problem is
+    fastest ``serial``. The numbers are the same on every backend.
+    """
+
+    backend: Literal["serial", "processes", "dask"] = "serial"
+    workers: int | None = Field(None, ge=1)
+    scheduler: str | None = Field(None, description="address of a running Dask scheduler")
+    chunks: int | None = Field(None, ge=1, description="pieces a batch is cut into (default: one per worker)")
+
+
+AlgorithmConfig = Annotated[
+    Union[(GAConfig, VEGAConfig, *(model for _, model in ADAPTERS.values()))], Field(discriminator="name")
+]
 
 
 class RunConfig(_Strict):
@@ -87,11 +104,16 @@ class RunConfig(_Strict):
     algorithm: AlgorithmConfig
     termination: TerminationConfig
     checkpoint: CheckpointConfig = CheckpointConfig()
+    evaluation: EvaluationConfig = EvaluationConfig()
     output: OutputConfig = OutputConfig()
 
     def resolved(self) -> dict[str, Any]:
         """Every setting, defaults included, as plain data (what ``config.yaml`` records)."""
         return self.model_dump(mode="json")
+
+    def fingerprint(self) -> dict[str, Any]:
+        """The settings that decide a run's numbers (a run may resume on another backend)."""
+        return {k: v for k, v in self.resolved().items() if k != "evaluation"}
 
 
 def read_yaml(path: str | Path) -> dict[str, Any]:
@@ -127,7 +149,7 @@ def format_validation_error(error: ValidationError, source: str) -> str:
         msg = f"unknown algorithm {first['ctx']['tag']!r} (known: {first['ctx']['expected_tags']})"
     elif first["type"] == "union_tag_not_found":
         loc.append("name")
-        msg = "missing (ga or vega)"
+        msg = f"missing (known: {', '.join(['ga', 'vega', *ADAPTERS])})"
     elif first["type"] == "missing":
         msg = "missing"
     else:

@@ -20,11 +20,13 @@ import yaml
 from tqdm import tqdm
 
 from . import __version__
+from .adapters import ADAPTERS, search_space
 from .algorithms import ALGORITHMS
 from .config import RunConfig, load_config, read_yaml
 from .engine import HISTORY_COLUMNS, Checkpointer, RunState, Termination, run, write_atomic
 from .errors import ConfigError
 from .evaluation import Evaluator
+from .parallel import ParallelEvaluator, open_pool
 from .problem_factory import build_space, make_problem
 from .space import Space
 
@@ -43,12 +45,17 @@ class Prepared:
 
     @property
     def fingerprint(self) -> str:
-        return json.dumps(self.config.resolved(), sort_keys=True)
+        return json.dumps(self.config.fingerprint(), sort_keys=True)
+
+    @property
+    def search(self):
+        """What the algorithm searches: the binary space, or (real-coded adapters) its unit cube."""
+        return search_space(self.config.algorithm, self.space)
 
     def new_state(self) -> RunState:
-        algo_cls, _ = ALGORITHMS[self.config.algorithm.name]
+        algo_cls, _ = {**ALGORITHMS, **ADAPTERS}[self.config.algorithm.name]
         rng = np.random.default_rng(self.config.seed)
-        algorithm = algo_cls(self.config.algorithm, self.space.n_bits, rng)
+        algorithm = algo_cls(self.config.algorithm, self.search.n_bits, rng)
         return RunState(algorithm=algorithm, rng=rng, fingerprint=self.fingerprint)
 
 
@@ -96,7 +103,7 @@ def resume_state(prepared: Prepared, out: Path) -> RunState:
         raise ConfigError(f"{out / CHECKPOINT}: cannot read checkpoint ({e})") from None
     if state.fingerprint != prepared.fingerprint:
         before = json.loads(state.fingerprint)
-        now = prepared.config.resolved()
+        now = prepared.config.fingerprint()
         keys = [k for k in now if now.get(k) != before.get(k)]
         raise ConfigError(
             f"{prepared.source}: differs from the configuration of {out} in {', '.join(keys)}: "
@@ -113,8 +120,15 @@ def execute(prepared: Prepared, out: Path, resume: bool = False, progress: bool 
         start_folder(prepared, out)
         state = prepared.new_state()
     checkpointer = Checkpointer(out / CHECKPOINT, cfg.checkpoint.every_generations, cfg.checkpoint.every_seconds)
-    with _progress_bar(prepared.termination, state, progress) as update:
-        run(state, prepared.space, prepared.evaluator, prepared.termination, checkpointer, update)
+    e = cfg.evaluation
+    pool = open_pool(e.backend, e.workers, e.scheduler) if e.backend != "serial" else None
+    evaluator = ParallelEvaluator(prepared.evaluator, pool, e.chunks) if pool else prepared.evaluator
+    try:
+        with _progress_bar(prepared.termination, state, progress) as update:
+            run(state, prepared.search, evaluator, prepared.termination, checkpointer, update)
+    finally:
+        if pool is not None:
+            pool.close()
     write_results(prepared, state, out)
     return state
 
@@ -150,8 +164,9 @@ def best_record(prepared: Prepared, state: RunState) -> dict:
     cfg = prepared.config
     best = {"objective": state.best_f if np.isfinite(state.best_f) else None, "variables": None, "genotype": None}
     if state.best_g is not None:
-        best["variables"] = prepared.space.named(prepared.space.decode(state.best_g[None, :])[0])
-        best["genotype"] = "".join("1" if b else "0" for b in state.best_g)
+        best["variables"] = prepared.space.named(prepared.search.decode(state.best_g[None, :])[0])
+        if state.best_g.dtype == bool:
+            best["genotype"] = "".join("1" if b else "0" for b in state.best_g)
     return {
         **best,
         "evaluations": state.evaluations,
@@ -190,7 +205,7 @@ def write_artifacts(prepared: Prepared, state: RunState, out: Path) -> None:
     artifacts = getattr(prepared.evaluator.problem, "artifacts", None)
     if not callable(artifacts) or state.best_g is None:
         return
-    x = prepared.space.decode(state.best_g[None, :])[0]
+    x = prepared.search.decode(state.best_g[None, :])[0]
     try:
         files = artifacts(x)
     except Exception as e:  # noqa: BLE001 - a problem's plotting or export must not sink the run

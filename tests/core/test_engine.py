@@ -141,3 +141,27 @@ def test_gray_coding_and_per_variable_bits():
     assert p.space.variables[0].low == -0.5 and p.space.variables[0].high == 1.0
     state = run(p.new_state(), p.space, p.evaluator, p.termination)
     assert np.isfinite(state.best_f)
+
+
+def test_evaluation_backend_gives_the_serial_numbers(tmp_path):
+    from evoplan.runner import execute
+
+    base = {"seed": 4, "problem": {"name": "tests.blackboxes:Slow", "params": {"delay": 0.0}},
+            "algorithm": {"name": "ga", "population": 10}, "termination": {"generations": 4}}
+    serial = execute(prepare(parse_config(base)), tmp_path / "serial", progress=False)
+    parallel_cfg = parse_config({**base, "evaluation": {"backend": "processes", "workers": 2}})
+    parallel = execute(prepare(parallel_cfg), tmp_path / "processes", progress=False)
+    assert history(parallel) == history(serial) and parallel.best_f == serial.best_f
+
+
+def test_adapters_run_through_the_same_engine(tmp_path):
+    from evoplan.runner import best_record, execute
+
+    cfg = parse_config({"seed": 3, "problem": {"name": "kubota"}, "algorithm": {"name": "pymoo_de", "pop_size": 10},
+                        "termination": {"evaluations": 300}})
+    p = prepare(cfg)
+    state = execute(p, tmp_path / "de", progress=False)
+    assert 300 <= state.evaluations < 310 and state.stop_reason == "evaluations"
+    record = best_record(p, state)
+    assert record["genotype"] is None and set(record["variables"]) == {"x", "y"}
+    assert abs(record["variables"]["x"]) <= 1 and record["objective"] == state.best_f

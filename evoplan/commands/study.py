@@ -1,0 +1,41 @@
+"""``evoplan study STUDY [--out DIR] [--backend serial|processes|dask] [--workers N] [--scheduler ADDR]``."""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+
+from ..errors import EvoplanError
+from ..parallel import POOLS
+
+
+def add_parser(sub) -> argparse.ArgumentParser:
+    p = sub.add_parser("study", help="run a comparison study (algorithms x problems x seeds) and analyze it")
+    p.add_argument("study", help="YAML study file, e.g. runs/compare_benchmarks.yaml")
+    p.add_argument("--out", help="results folder (default: results/<study name>); "
+                                 "an unfinished study there is resumed")
+    p.add_argument("--backend", choices=list(POOLS), help="where the runs execute (default: serial; "
+                                                          "dask when --scheduler is given)")
+    p.add_argument("--workers", type=int, help="worker processes (default: one per CPU)")
+    p.add_argument("--scheduler", metavar="ADDRESS", help="Dask scheduler, e.g. tcp://10.0.0.5:8786 "
+                                                          "(default with --backend dask: a local cluster)")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    return p
+
+
+def main(args: argparse.Namespace) -> int:
+    from ..study.config import load_study
+    from ..study.runner import run_study
+
+    backend = args.backend or ("dask" if args.scheduler else "serial")
+    if args.scheduler and backend != "dask":
+        raise EvoplanError(f"--scheduler is for --backend dask, not {backend}")
+    if args.workers is not None and args.workers < 1:
+        raise EvoplanError(f"--workers must be at least 1, got {args.workers}")
+    study = load_study(args.study)
+    out = Path(args.out or Path("results") / study.name)
+    summary = run_study(study, args.study, out, backend, args.workers, args.scheduler,
+                        progress=False if args.quiet else None)
+    print(json.dumps(summary))
+    return 0

@@ -1,0 +1,7 @@
+"""Studies: many runs (algorithms x problems x seeds x factor levels), their statistics and plots.
+
+Modules, in the order data flows: ``config`` (the study file), ``grid`` (the cells and their
+seeds), ``cell`` (one run, where a worker runs it), ``folder`` (results on disk, resume),
+``runner`` (backends and progress), ``statistics`` / ``curves`` (numbers), ``figures`` /
+``report`` (what a reader sees), ``analysis`` (ties the last four), ``bbob`` (BBOB via ioh).
+"""

@@ -1,0 +1,97 @@
+"""One cell of a study, run where a worker runs it: settings in, a record and a history out.
+
+:func:`run_cell` is what every backend executes. It builds the run as ``evoplan run`` does
+(:func:`evoplan.runner.prepare`, :meth:`~evoplan.runner.Prepared.new_state` for evoplan's own
+algorithms) and runs it with :func:`evoplan.engine.run` (no checkpoint: a study resumes cell by
+cell). It returns plain data and touches no file, so a remote worker needs no shared disk.
+A run that raises is returned as a failed record with its error: the study goes on.
+
+**Equal budgets.** Every algorithm, adapters included, is driven by the same engine loop, which
+counts every row it has evaluated and stops after the generation in which the budget is reached
+(so a run may use up to one batch more). For an exactly equal comparison :class:`BudgetTracker`
+sees every batch in evaluation order and keeps ``final_best``: the best value among the first
+``budget`` evaluations, exactly ``budget`` for every algorithm; ``best_overall`` and
+``evaluations`` report the whole run.
+"""
+
+from __future__ import annotations
+
+import random
+import time
+from typing import Any
+
+import numpy as np
+
+from ..config import parse_config
+from ..engine import RunState, run
+from ..evaluation import Evaluation
+from ..runner import Prepared, history_frame, prepare
+from .grid import Cell
+
+class BudgetTracker:
+    """Wraps an evaluator; keeps the best value among the first ``budget`` evaluations."""
+
+    def __init__(self, evaluator, budget: int | None) -> None:
+        self.evaluator = evaluator
+        self.budget = budget
+        self.count = 0
+        self.best = np.inf
+
+    def __call__(self, X: np.ndarray) -> Evaluation:
+        result = self.evaluator(X)
+        inside = len(X) if self.budget is None else max(0, min(len(X), self.budget - self.count))
+        if inside:
+            self.best = min(self.best, float(np.min(result.f[:inside])))
+        self.count += len(X)
+        return result
+
+
+def optimum(problem) -> float | None:
+    """The known optimum value of a problem: ``f(pareto_set)`` when pymoo knows the optimum's
+    location (exact, e.g. Schwefel's 3.8e-5 per 3 variables), else its declared value, else None."""
+    for attempt in (lambda: problem.evaluate(np.atleast_2d(problem.pareto_set()).astype(float)),
+                    lambda: problem.pareto_front()):
+        try:
+            value = attempt()
+        except Exception:  # noqa: BLE001 - unknown optimum
+            continue
+        if value is not None and np.size(value) and np.all(np.isfinite(value)):
+            return float(np.min(value))
+    return None
+
+
+def build(run_settings: dict[str, Any]) -> tuple[Prepared, RunState, Any]:
+    """The prepared run, its fresh state and the space its algorithm searches."""
+    prepared = prepare(parse_config(run_settings, run_settings["name"]), run_settings["name"])
+    return prepared, prepared.new_state(), prepared.search
+
+
+def run_cell(cell: Cell) -> tuple[dict[str, Any], list[tuple]]:
+    """Run ``cell``; returns its record (one row of ``runs.csv``) and its history rows."""
+    random.seed(cell.seed)  # libraries that draw from global generators (cma) start the same
+    np.random.seed(cell.seed)
+    t0 = time.perf_counter()
+    record: dict[str, Any] = {"key": cell.key, **cell.labels(), "budget": cell.budget}
+    history: list[tuple] = []
+    try:
+        prepared, state, space = build(cell.run)
+        record["optimum"] = optimum(prepared.evaluator.problem)
+        tracker = BudgetTracker(prepared.evaluator, cell.budget)
+        run(state, space, tracker, prepared.termination)
+        history = [tuple(map(_plain, row)) for row in history_frame(state).itertuples(index=False)]
+        record.update(status="ok", error="", final_best=_finite(tracker.best), best_overall=_finite(state.best_f),
+                      evaluations=state.evaluations, generations=state.algorithm.generation,
+                      failures=state.failures, stop_reason=state.stop_reason,
+                      failure_messages=" | ".join(state.errors))
+    except Exception as e:  # noqa: BLE001 - a crashed run is a result, not the end of the study
+        record.update(status="failed", error=f"{type(e).__name__}: {e}".splitlines()[0][:500])
+    record["wall_seconds"] = round(time.perf_counter() - t0, 4)
+    return record, history
+
+
+def _finite(x: float) -> float | None:
+    return float(x) if np.isfinite(x) else None
+
+
+def _plain(x):
+    return x.item() if isinstance(x, np.generic) else x

@@ -1,0 +1,104 @@
+"""``report.md``: a study's setting, method, tables and figures on one page."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from .statistics import BLOCK, VARIANT
+
+METHOD = """\
+- **Budget, counted the same way.** Every algorithm (evoplan's GA and VEGA, and the pymoo and
+  DEAP adapters) runs as an ask/tell algorithm inside evoplan's engine, which evaluates every
+  batch asked for and counts every row (VEGA's infections included) and stops after the
+  generation in which the budget is reached. `final_best` is the best value among the first
+  `budget` evaluations in evaluation order (exactly the budget for every algorithm);
+  `evaluations` is what the run used in all (at most one batch more).
+- **Seeds.** The seed of repetition r on a problem is derived from the study seed, the problem
+  and r (`numpy.random.SeedSequence`), not from the algorithm nor the level: runs are paired
+  by repetition (evoplan's GA and VEGA start from the same population), identical whichever
+  backend ran them.
+- **Tests.** {test_text} Holm's correction within each problem (and factor); alpha = {alpha}.
+  *better/worse* = significantly lower/higher final values than the reference, the direction
+  given by the rank-biserial correlation r (negative: lower values than the reference).
+- **Ranks.** Within each problem and repetition, variants are ranked by final value (1 = best,
+  failed runs last); the mean over repetitions is `mean_rank`.
+- **ECDF.** Fixed-target runtimes to f_ref + 10^k for {n_targets} precisions (COCO style); f_ref
+  is the known optimum, else the best value any run found.
+"""
+
+TEST_TEXT = {
+    "signed_rank": "Wilcoxon signed-rank test on the differences paired by repetition (two-sided).",
+    "rank_sum": "Mann-Whitney U (Wilcoxon rank-sum) test, unpaired (two-sided).",
+}
+
+
+def _fmt(x: Any) -> str:
+    if x is None or (isinstance(x, float) and not np.isfinite(x)):
+        return "-"
+    if isinstance(x, (float, np.floating)):
+        return f"{x:.3g}"
+    return str(x)
+
+
+def markdown_table(frame: pd.DataFrame) -> str:
+    """A pipe table of ``frame`` (numbers to 3 significant digits)."""
+    head = "| " + " | ".join(map(str, frame.columns)) + " |"
+    rule = "|" + "|".join("---" for _ in frame.columns) + "|"
+    body = ["| " + " | ".join(_fmt(v) for v in row) + " |" for row in frame.itertuples(index=False)]
+    return "\n".join([head, rule, *body])
+
+
+def _variant_column(frame: pd.DataFrame) -> pd.Series:
+    return np.where(frame["factor"] == "", frame["algorithm"], frame["factor"] + "=" + frame["level"].astype(str))
+
+
+def block_table(summary: pd.DataFrame, tests: pd.DataFrame) -> pd.DataFrame:
+    """The summary rows of one problem with the test against the reference beside them."""
+    t = tests.set_index(VARIANT)[["median_difference", "effect", "p_holm", "verdict"]] if len(tests) else None
+    out = summary.assign(variant=_variant_column(summary))
+    if t is not None:
+        out = out.join(t, on=VARIANT)
+    else:
+        out = out.assign(median_difference=np.nan, effect=np.nan, p_holm=np.nan, verdict="")
+    out["verdict"] = out["verdict"].fillna("(reference)")
+    cols = ["variant", "runs", "failed", "median", "q1", "q3", "best", "mean_rank", "evaluations",
+            "median_difference", "effect", "p_holm", "verdict"]
+    return out[cols].rename(columns={"median_difference": "median diff vs ref", "effect": "r (rank-biserial)",
+                                     "p_holm": "p (Holm)",
+                                     "evaluations": "evals used"})
+
+
+def overall_ranks(summary: pd.DataFrame, tests: pd.DataFrame) -> pd.DataFrame:
+    """Mean of the per-problem mean ranks, and the better/same/worse counts against the reference."""
+    s = summary.assign(variant=_variant_column(summary))
+    table = s.groupby("variant", sort=False).agg(problems=("mean_rank", "size"), mean_rank=("mean_rank", "mean"),
+                                                 median_wall_s=("wall_seconds", "median"))
+    if len(tests):
+        t = tests.assign(variant=_variant_column(tests))
+        counts = pd.crosstab(t["variant"], t["verdict"])
+        for v in ("better", "same", "worse"):
+            table[v] = counts[v] if v in counts else 0
+    return table.reset_index().sort_values("mean_rank")
+
+
+def render(name: str, meta: dict[str, Any], summary: pd.DataFrame, tests: pd.DataFrame, f_ref: pd.Series,
+           known: pd.Series, figures: list[str], failures: pd.DataFrame, test: str, alpha: float,
+           n_targets: int) -> str:
+    lines = [f"# Study `{name}`", ""]
+    lines += [f"- {k}: {v}" for k, v in meta.items()]
+    lines += ["", "## Method", "", METHOD.format(test_text=TEST_TEXT[test], alpha=alpha, n_targets=n_targets)]
+    lines += ["## Overall", "", markdown_table(overall_ranks(summary, tests)), ""]
+    for (problem, dim), rows in summary.groupby(BLOCK, sort=False):
+        ref = f_ref.loc[(problem, dim)]
+        how = "known optimum" if pd.notna(known.loc[(problem, dim)]) else "best value found"
+        btests = tests[(tests["problem"] == problem) & (tests["dimension"] == dim)] if len(tests) else tests
+        lines += [f"## {problem}, {dim}-D", "", f"f_ref = {ref:.6g} ({how}); values are final objective values.", ""]
+        lines += [markdown_table(block_table(rows, btests)), ""]
+    if figures:
+        lines += ["## Figures", ""] + [f"![{f}]({f})" for f in figures] + [""]
+    if len(failures):
+        lines += ["## Failed runs", "", markdown_table(failures[["key", "error"]]), ""]
+    return "\n".join(lines)

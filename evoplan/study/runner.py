@@ -1,0 +1,104 @@
+"""Run a study: the grid on a backend, with progress and resume, then its analysis.
+
+Everything that can be checked is checked before the results folder is touched: the study file
+(every name, dimension and level), the folder, and the backend (a Dask scheduler that does not
+answer). Cells run as tasks of a :mod:`evoplan.parallel` pool; the driver writes each finished
+cell (see ``folder.py``), so workers need no shared disk. A task lost to the infrastructure is
+recorded as a failed run with its error, and is run again when the study is resumed.
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+import time
+from functools import lru_cache
+from pathlib import Path
+from typing import Any
+
+from tqdm import tqdm
+
+from ..parallel import open_pool
+from .analysis import analyze
+from .cell import run_cell
+from .config import StudyConfig
+from .folder import StudyFolder
+from .grid import Cell, build_grid, reference_levels
+
+EXECUTIONS = "execution.json"  # one entry per invocation: cells run and reused, backend, wall time
+
+
+def _lost(cell: Cell, error: BaseException) -> dict[str, Any]:
+    return {"key": cell.key, **cell.labels(), "budget": cell.budget, "status": "failed",
+            "error": f"backend: {type(error).__name__}: {error}".splitlines()[0][:500]}
+
+
+def run_cells(todo: list[Cell], folder: StudyFolder, pool, progress: bool | None) -> int:
+    """Run ``todo`` on ``pool``, saving each as it finishes; returns how many failed."""
+    failed = 0
+    bar = tqdm(total=len(todo), unit="run", file=sys.stderr, dynamic_ncols=True,
+               disable=None if progress is None else not progress)
+    try:
+        futures = {pool.submit(run_cell, cell): cell for cell in todo}
+        for future in pool.as_completed(futures):
+            cell = futures[future]
+            try:
+                record, history = future.result()
+            except Exception as e:  # noqa: BLE001 - a lost task is a failed run, not the end
+                record, history = _lost(cell, e), []
+            folder.save(cell, record, history)
+            failed += record["status"] != "ok"
+            bar.update(1)
+            bar.set_postfix(failed=failed, refresh=False)
+    finally:
+        bar.close()
+    return failed
+
+
+def run_study(study: StudyConfig, source: str, out: str | Path, backend: str = "serial",
+              workers: int | None = None, scheduler: str | None = None,
+              progress: bool | None = None) -> dict[str, Any]:
+    """Run the missing cells of ``study`` into ``out`` and (re)write its analysis; returns a summary."""
+    cells = build_grid(study, source)
+    levels = reference_levels(study, source)
+    folder = StudyFolder(out, study.name)
+    folder.check()
+    stored = {c.key: r for c in cells if (r := folder.load(c)) is not None}
+    todo = [c for c in cells if c.key not in stored]
+    t_open = time.perf_counter()
+    pool = open_pool(backend, workers, scheduler) if todo else None
+    t0 = time.perf_counter()
+    try:
+        folder.start(study.resolved())
+        failed = run_cells(todo, folder, pool, progress) if todo else 0
+    finally:
+        if pool is not None:
+            pool.close()
+    wall = time.perf_counter() - t0
+    records = [_stored_any(folder, c) for c in cells]
+    execution = {"study": source, "out": str(out), "cells": len(cells), "ran": len(todo),
+                 "reused": len(stored), "failed": failed, "backend": backend if todo else "-",
+                 "workers": pool.workers if pool is not None else 0, "wall_seconds": round(wall, 2),
+                 "startup_seconds": round(t0 - t_open, 2)}
+    log = _executions(folder) + [{**execution, "finished": time.strftime("%Y-%m-%d %H:%M:%S")}]
+    folder.write_text(EXECUTIONS, json.dumps(log, indent=1) + "\n")
+    history = lru_cache(maxsize=None)(folder.history)
+    analyze(study, folder, records, history, levels, log)
+    return execution
+
+
+def _executions(folder: StudyFolder) -> list[dict[str, Any]]:
+    """Earlier invocations on this folder (each: what ran where, and its wall time)."""
+    try:
+        log = json.loads((folder.out / EXECUTIONS).read_text())
+    except (OSError, ValueError):
+        return []
+    return log if isinstance(log, list) else [log]
+
+
+def _stored_any(folder: StudyFolder, cell: Cell) -> dict[str, Any]:
+    """The record of a cell whatever its status (failed runs are rows of ``runs.csv`` too)."""
+    try:
+        return json.loads((folder.cells / f"{cell.key}.json").read_text())["record"]
+    except (OSError, ValueError, KeyError):
+        return {"key": cell.key, **cell.labels(), "budget": cell.budget, "status": "missing", "error": ""}
