@@ -167,6 +167,14 @@ class Space:
         binned = self._low + np.minimum(np.floor(K * self._count / self._levels), self._count - 1)
         return np.where(self._is_real, self._low + K * self._real_scale, binned)
 
+    def from_unit(self, U: np.ndarray) -> np.ndarray:
+        """Phenotypes of unit-cube rows ``U: (n, d)`` in ``[0, 1]`` (clipped): reals on their
+        bounds, integers and choices by the equal-width bins :meth:`decode` uses."""
+        U = np.clip(np.asarray(U, dtype=float), 0.0, 1.0)
+        span = np.array([v.high - v.low if v.kind == "real" else 0.0 for v in self.variables])
+        binned = self._low + np.minimum(np.floor(U * self._count), self._count - 1)
+        return np.where(self._is_real, self._low + U * span, binned)
+
     def encode(self, X: np.ndarray) -> np.ndarray:
         """Genotypes of the codes nearest to ``X: (n, d)`` (the inverse of :meth:`decode` on codes)."""
         X = np.atleast_2d(np.asarray(X, dtype=float))

@@ -41,25 +41,10 @@ class UnitCube:
     def __init__(self, space: Space) -> None:
         self.space = space
         self.n_bits = space.n_var
-        kinds = [v.kind for v in space.variables]
-        self._is_real = np.array([k == "real" for k in kinds])
-        self._low = np.array([0.0 if k == "categorical" else float(v.low) for k, v in zip(kinds, space.variables)])
-        self._span = np.array([float(v.high - v.low) if k == "real" else 0.0 for k, v in zip(kinds, space.variables)])
-        self._count = np.array([_count(v) for v in space.variables])
 
     def decode(self, U: np.ndarray) -> np.ndarray:
         """Phenotypes of unit-cube rows, ``(n, d) -> (n, d)``; values outside ``[0, 1]`` are clipped."""
-        U = np.clip(np.asarray(U, dtype=float), 0.0, 1.0)
-        binned = self._low + np.minimum(np.floor(U * self._count), self._count - 1)
-        return np.where(self._is_real, self._low + U * self._span, binned)
-
-
-def _count(v) -> float:
-    if v.kind == "categorical":
-        return float(len(v.choices))
-    if v.kind == "integer":
-        return float(v.high - v.low + 1)
-    return 1.0
+        return self.space.from_unit(U)
 
 
 def search_space(config, space: Space):

@@ -5,7 +5,7 @@ An expensive black box is simulated by a sphere that sleeps 0.1 s per evaluation
 timed with the serial ``Evaluator`` and with ``ParallelEvaluator`` on a local Dask cluster of
 ``--workers`` workers; the best values must be identical.
 
-    PYTHONPATH=. python tests/study/bench_parallel_evaluation.py [--workers 2] [--backend dask]
+    PYTHONPATH=. python runs/bench/parallel_evaluation.py [--workers 2] [--backend dask]
 """
 
 from __future__ import annotations
