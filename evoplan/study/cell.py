@@ -16,6 +16,7 @@ sees every batch in evaluation order and keeps ``final_best``: the best value am
 
 from __future__ import annotations
 
+import json
 import random
 import time
 from typing import Any
@@ -82,11 +83,18 @@ def run_cell(cell: Cell) -> tuple[dict[str, Any], list[tuple]]:
         record.update(status="ok", error="", final_best=_finite(tracker.best), best_overall=_finite(state.best_f),
                       evaluations=state.evaluations, generations=state.algorithm.generation,
                       failures=state.failures, stop_reason=state.stop_reason,
-                      failure_messages=" | ".join(state.errors))
+                      failure_messages=" | ".join(state.errors), best_variables=_variables(prepared, state))
     except Exception as e:  # noqa: BLE001 - a crashed run is a result, not the end of the study
         record.update(status="failed", error=f"{type(e).__name__}: {e}".splitlines()[0][:500])
     record["wall_seconds"] = round(time.perf_counter() - t0, 4)
     return record, history
+
+
+def _variables(prepared: Prepared, state: RunState) -> str:
+    """The best solution decoded to named variables, as JSON (one ``runs.csv`` cell)."""
+    if state.best_g is None:
+        return ""
+    return json.dumps(prepared.space.named(prepared.search.decode(state.best_g[None, :])[0]))
 
 
 def _finite(x: float) -> float | None:

@@ -99,7 +99,7 @@ class StudyFolder:
 
 RUN_COLUMNS = ["key", "algorithm", "problem", "dimension", "factor", "level", "repetition", "seed", "status",
                "final_best", "best_overall", "optimum", "budget", "evaluations", "generations", "failures",
-               "stop_reason", "wall_seconds", "error", "failure_messages"]
+               "stop_reason", "wall_seconds", "error", "failure_messages", "best_variables"]
 
 
 def runs_frame(records: Iterable[dict[str, Any]]) -> pd.DataFrame:

@@ -89,3 +89,16 @@ def test_a_crashing_run_is_recorded_as_failed_and_the_study_goes_on(small_study,
     assert execution["ran"] == 4 and execution["failed"] == 0  # failed cells run again on resume
     log = json.loads((out / "execution.json").read_text())  # one entry per invocation
     assert [(e["ran"], e["reused"]) for e in log] == [(16, 0), (4, 12)]
+
+
+def test_runs_record_the_best_variables():
+    from evoplan.study.cell import run_cell
+    from evoplan.study.config import parse_study
+    from evoplan.study.grid import build_grid
+
+    study = parse_study({"seeds": 1, "budget": {"generations": 3}, "problems": [{"name": "kubota"}],
+                         "algorithms": [{"name": "ga", "population": 10}, {"name": "pymoo_de", "pop_size": 10}]})
+    for cell in build_grid(study):
+        record, _ = run_cell(cell)
+        variables = json.loads(record["best_variables"])
+        assert set(variables) == {"x", "y"} and all(-1 <= v <= 1 for v in variables.values())
