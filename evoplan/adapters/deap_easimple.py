@@ -9,11 +9,12 @@ population. With the same random state the populations are those ``eaSimple`` it
 (``tests/study/test_adapters.py`` checks it). Like ``eaSimple``, only changed individuals are
 re-evaluated, and the population is not elitist (the engine keeps the best ever evaluated).
 
-DEAP draws from the global :mod:`random` module. The adapter keeps its own state of that
-generator (seeded from the run's generator) and swaps it in around each DEAP call, so that a
-run is reproducible whatever ran before it in the same process (a study's worker). Two
-adapters must not run at once in threads of one process: evoplan's pools use one thread per
-worker. Individuals are plain list subclasses defined here, not classes made by
+DEAP draws from the module-level :mod:`random` functions. The adapter owns a private
+``random.Random`` (seeded from the run's generator) and puts it in place of the ``random``
+name inside DEAP's modules around each DEAP call, so a run is reproducible whatever else draws
+from the global generator meanwhile (a Dask worker's own threads do: swapping the global state
+instead made 2 of 330 DEAP cells differ between backends). Two DEAP adapters must not run at
+once in threads of one process: evoplan's pools use one thread per worker. Individuals are plain list subclasses defined here, not classes made by
 ``deap.creator`` at run time (those do not pickle across processes).
 """
 
@@ -25,6 +26,7 @@ from typing import Literal
 
 import numpy as np
 from deap import algorithms, base, tools
+from deap.tools import crossover, mutation, selection
 from pydantic import Field, model_validator
 
 from ..algorithms.base import Algorithm
@@ -64,16 +66,20 @@ class DeapEaSimpleConfig(AdapterConfig):
         return self
 
 
-def make_toolbox(config: DeapEaSimpleConfig, length: int) -> base.Toolbox:
-    """DEAP's toolbox for ``config`` over genomes of ``length`` genes (bits or unit-cube reals)."""
+DEAP_MODULES = (algorithms, crossover, mutation, selection)  # each does ``import random``
+
+
+def make_toolbox(config: DeapEaSimpleConfig, length: int, rnd=random) -> base.Toolbox:
+    """DEAP's toolbox for ``config`` over genomes of ``length`` genes (bits or unit-cube reals);
+    ``rnd`` draws the initial genes (the :mod:`random` module or a ``random.Random``)."""
     tb = base.Toolbox()
     indpb = config.indpb or 1.0 / length
     if config.representation == "binary":
-        tb.register("gene", random.randint, 0, 1)
+        tb.register("gene", rnd.randint, 0, 1)
         tb.register("mate", tools.cxOnePoint if config.crossover == "one_point" else tools.cxTwoPoint)
         tb.register("mutate", tools.mutFlipBit, indpb=indpb)
     else:
-        tb.register("gene", random.random)
+        tb.register("gene", rnd.random)
         tb.register("mate", tools.cxSimulatedBinaryBounded, eta=config.eta_crossover, low=0.0, up=1.0)
         tb.register("mutate", tools.mutPolynomialBounded, eta=config.eta_mutation, low=0.0, up=1.0, indpb=indpb)
     tb.register("individual", tools.initRepeat, Individual, tb.gene, length)
@@ -90,22 +96,23 @@ class DeapEaSimple(Algorithm):
     def __init__(self, config: DeapEaSimpleConfig, n_bits: int, rng: np.random.Generator) -> None:
         super().__init__(n_bits, rng)
         self.config = config
-        self.toolbox = make_toolbox(config, n_bits)
-        self._random_state = random.Random(child_seed(rng)).getstate()
+        self._random = random.Random(child_seed(rng))
+        self.toolbox = make_toolbox(config, n_bits, self._random)
         self.population_: list[Individual] = []
         self._offspring: list[Individual] | None = None
         self._invalid: list[Individual] = []
 
     @contextmanager
     def _deap_random(self):
-        """Swap this run's state of the global ``random`` generator in for DEAP's calls."""
-        outer = random.getstate()
-        random.setstate(self._random_state)
+        """DEAP's modules draw from this run's private generator for the duration of a call."""
+        saved = [m.random for m in DEAP_MODULES]
+        for m in DEAP_MODULES:
+            m.random = self._random
         try:
             yield
         finally:
-            self._random_state = random.getstate()
-            random.setstate(outer)
+            for m, r in zip(DEAP_MODULES, saved):
+                m.random = r
 
     def ask(self) -> np.ndarray:
         with self._deap_random():

@@ -113,3 +113,36 @@ def test_unit_cube_maps_reals_integers_and_choices_like_the_codec():
 def test_deap_settings_that_never_change_anything_are_refused():
     with pytest.raises(ValueError, match="cxpb and mutpb"):
         DeapEaSimpleConfig(cxpb=0, mutpb=0)
+
+
+def test_deap_adapter_ignores_other_draws_from_the_global_generator():
+    import sys
+    import threading
+
+    problem = make_problem("kubota")
+    space = build_space(problem, 16)
+    results = []
+    switch = sys.getswitchinterval()
+    sys.setswitchinterval(1e-5)  # let the other thread interleave with DEAP's own calls
+    try:
+        for noise in (False, True):
+            stop = threading.Event()
+
+            def draw():  # another thread of a worker (Dask's event loop) using the global generator
+                while not stop.is_set():
+                    random.random()
+
+            thread = threading.Thread(target=draw) if noise else None
+            if thread:
+                thread.start()
+            try:
+                state, _ = adapted("deap_easimple", {"population": 30}, problem, seed=5)
+                run(state, space, Evaluator(problem), Termination(generations=60))
+            finally:
+                stop.set()
+                if thread:
+                    thread.join()
+            results.append([list(ind) for ind in state.algorithm.population_])
+    finally:
+        sys.setswitchinterval(switch)
+    assert results[0] == results[1]
