@@ -152,13 +152,13 @@ class VEGA(GA):
         self.f[take] = best_f[take]
 
     # -- rules 4-6: virus bookkeeping ------------------------------------------------------------
-    def update_viruses(self, trial: np.ndarray, gain: np.ndarray, trials: np.ndarray) -> None:
-        """Eq. 12 fitness, life force, infection-rate adaptation, then renew or extend viruses.
+    def update_viruses(self, fitvirus: np.ndarray, trial: np.ndarray, gain: np.ndarray,
+                       trials: np.ndarray) -> None:
+        """Life force, infection-rate adaptation, then renew or extend viruses.
 
-        ``trial: (V, N)`` as in :meth:`replace_hosts`; ``gain: (V, N)`` the Eq. 11 gain of each
-        infection (0 where none).
+        ``fitvirus: (V,)`` Eq. 12; ``trial: (V, N)`` as in :meth:`replace_hosts`; ``gain: (V, N)``
+        the Eq. 11 gain of each infection (0 where none).
         """
-        fitvirus = gain.sum(axis=1)  # Eq. 12 (operators.viral.virus_fitness on the dense layout)
         old_life = self.life
         self.life = viral.update_life(old_life, fitvirus, self.vc.infectivity_force)
         self.rate = viral.adapt_infection_rate(
@@ -195,7 +195,8 @@ class VEGA(GA):
         virus, host = self.infections()
         if virus.size == 0:
             none = np.full((self.vc.count, self.f.size), -1)
-            self.update_viruses(none, np.zeros(none.shape), np.zeros((0, self.n_bits), bool))
+            self.update_viruses(np.zeros(self.vc.count), none, np.zeros(none.shape),
+                                np.zeros((0, self.n_bits), bool))
             self.generation += 1
             return True
         self._pairs, self.phase = (virus, host), "infection"
@@ -212,10 +213,11 @@ class VEGA(GA):
         trial[virus, host] = np.arange(virus.size)
         F = np.full(shape, np.inf)
         F[virus, host] = f
+        pair_gain = viral.infection_gain(self.f[host], f)  # Eq. 11, before the hosts are replaced
         gain = np.zeros(shape)
-        gain[virus, host] = viral.infection_gain(self.f[host], f)  # before the hosts are replaced
+        gain[virus, host] = pair_gain
         self.replace_hosts(trial, F, trials)
-        self.update_viruses(trial, gain, trials)
+        self.update_viruses(viral.virus_fitness(pair_gain, virus, self.vc.count), trial, gain, trials)
         self._pairs, self._batch, self.phase = None, None, "hosts"
         self.generation += 1
         return True

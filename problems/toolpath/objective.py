@@ -19,6 +19,8 @@ import itertools
 
 import numpy as np
 
+from .checks import interval, number
+
 __all__ = ["DEFAULT_WEIGHTS", "OBJECTIVE_CRITERIA", "parse_weights", "parse_bounds",
            "normalization_design", "bounds_from_sample", "normalize", "weighted_sum"]
 
@@ -43,11 +45,8 @@ def parse_weights(weights=None, key: str = "weights") -> dict[str, float]:
     for name, w in weights.items():
         if name not in OBJECTIVE_CRITERIA:
             raise ValueError(f"{key}.{name}: unknown criterion (known: {', '.join(OBJECTIVE_CRITERIA)})")
-        try:
-            x = float(w)
-        except (TypeError, ValueError):
-            raise ValueError(f"{key}.{name}: expected a number, got {w!r}") from None
-        if isinstance(w, bool) or not (0.0 <= x <= 1.0):
+        x = number(w, f"{key}.{name}")
+        if not 0.0 <= x <= 1.0:
             raise ValueError(f"{key}.{name}: must be in [0, 1], got {w!r}")
         out[name] = x
     total = sum(out.values())
@@ -66,13 +65,7 @@ def parse_bounds(bounds, names, key: str = "normalization") -> dict[str, tuple[f
     for name, b in bounds.items():
         if name not in names:
             raise ValueError(f"{key}.{name}: not a weighted criterion ({', '.join(names)})")
-        try:
-            lo, hi = (float(x) for x in b)
-        except (TypeError, ValueError):
-            raise ValueError(f"{key}.{name}: expected [lo, hi], got {b!r}") from None
-        if not (np.isfinite(lo) and np.isfinite(hi) and lo < hi):
-            raise ValueError(f"{key}.{name}: expected finite lo < hi, got {b!r}")
-        out[name] = (lo, hi)
+        out[name] = interval(b, f"{key}.{name}")
     return out
 
 

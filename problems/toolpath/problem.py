@@ -27,6 +27,7 @@ import numpy as np
 from pymoo.core.problem import Problem
 from pymoo.core.variable import Choice, Real
 
+from .checks import interval, number
 from .objective import (
     OBJECTIVE_CRITERIA, bounds_from_sample, normalization_design, normalize, parse_bounds,
     parse_weights, weighted_sum,
@@ -42,16 +43,6 @@ DEFAULT_RANGES = {"stepover": (20.0, 45.0), "lead": (0.0, 5.0), "tilt": (0.0, 2.
                   "step": (5.0, 10.0)}
 
 
-def _positive(value, key: str) -> float:
-    try:
-        x = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{key}: expected a number, got {value!r}") from None
-    if isinstance(value, bool) or not (np.isfinite(x) and x > 0):
-        raise ValueError(f"{key}: must be a finite number > 0, got {value!r}")
-    return x
-
-
 def _ranges(spec) -> dict[str, tuple[float, float]]:
     out = dict(DEFAULT_RANGES)
     if spec is None:
@@ -62,12 +53,7 @@ def _ranges(spec) -> dict[str, tuple[float, float]]:
         key = f"ranges.{name}"
         if name not in DEFAULT_RANGES:
             raise ValueError(f"{key}: unknown parameter (known: {', '.join(DEFAULT_RANGES)})")
-        try:
-            lo, hi = (float(x) for x in b)
-        except (TypeError, ValueError):
-            raise ValueError(f"{key}: expected [lo, hi], got {b!r}") from None
-        if not (np.isfinite(lo) and np.isfinite(hi) and lo < hi):
-            raise ValueError(f"{key}: expected finite lo < hi, got {b!r}")
+        lo, hi = interval(b, key)
         if name in ("stepover", "step") and lo <= 0:
             raise ValueError(f"{key}: must be > 0, got {b!r}")
         if name in ("lead", "tilt") and not (-90 < lo and hi < 90):
@@ -97,12 +83,7 @@ class ToolpathProblem(Problem):
         surf = parse_surface(surface, "surface", base_dir)
         self.tool_db = parse_tools(tools, "tools")
         self.weights = parse_weights(weights, "weights")
-        try:
-            angle = float(feed_angle)
-        except (TypeError, ValueError):
-            raise ValueError(f"feed_angle: expected a number, got {feed_angle!r}") from None
-        if not np.isfinite(angle):
-            raise ValueError(f"feed_angle: expected a finite number, got {feed_angle!r}")
+        angle = number(feed_angle, "feed_angle")
         self.ranges = _ranges(ranges)
         if objectives is not None:
             if isinstance(objectives, str) or not objectives:
@@ -115,9 +96,9 @@ class ToolpathProblem(Problem):
         self.objectives = objectives
         self.simulator = ToolpathSimulator(
             surf, self.tool_db, feed_angle=angle,
-            tolerance=_positive(tolerance, "tolerance"),
-            feed_rate=_positive(feed_rate, "feed_rate"),
-            allowance=_positive(allowance, "allowance"), max_rounds=int(max_rounds))
+            tolerance=number(tolerance, "tolerance", positive=True),
+            feed_rate=number(feed_rate, "feed_rate", positive=True),
+            allowance=number(allowance, "allowance", positive=True), max_rounds=int(max_rounds))
         n_tools = len(self.tool_db)
         xl = np.array([0.0] + [self.ranges[k][0] for k in PARAM_NAMES[1:]])
         xu = np.array([float(n_tools - 1)] + [self.ranges[k][1] for k in PARAM_NAMES[1:]])
@@ -176,11 +157,7 @@ class ToolpathProblem(Problem):
         if missing:
             raise ValueError(f"params.{missing[0]}: missing")
         x = [float(self.tool_db.index_of(params["tool"]))]
-        for name in PARAM_NAMES[1:]:
-            try:
-                x.append(float(params[name]))
-            except (TypeError, ValueError):
-                raise ValueError(f"params.{name}: expected a number, got {params[name]!r}") from None
+        x += [number(params[name], f"params.{name}") for name in PARAM_NAMES[1:]]
         return self.check(np.array([x]))
 
     def criteria(self, X) -> dict[str, np.ndarray]:

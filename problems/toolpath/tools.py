@@ -24,6 +24,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .checks import number
+
 __all__ = ["Tool", "ToolDatabase", "DEFAULT_TOOLS", "parse_tools"]
 
 _TYPES = ("flat", "ball", "toroidal")
@@ -82,16 +84,6 @@ class ToolDatabase:
         return int(hits[0])
 
 
-def _num(value, key: str) -> float:
-    try:
-        x = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{key}: expected a number, got {value!r}") from None
-    if not np.isfinite(x):
-        raise ValueError(f"{key}: expected a finite number, got {value!r}")
-    return x
-
-
 def parse_tools(spec=None, key: str = "tools") -> ToolDatabase:
     """Build a database from plain data (a list of mappings); None gives the default nine.
 
@@ -114,14 +106,14 @@ def parse_tools(spec=None, key: str = "tools") -> ToolDatabase:
             raise ValueError(f"{k}: unknown key(s) {', '.join(sorted(unknown))}")
         if "diameter" not in item:
             raise ValueError(f"{k}.diameter: missing")
-        d = _num(item["diameter"], f"{k}.diameter")
+        d = number(item["diameter"], f"{k}.diameter")
         if d <= 0:
             raise ValueError(f"{k}.diameter: must be > 0, got {d:g}")
         kind = item.get("type")
         default_r = {"flat": 0.0, "ball": d / 2}.get(kind)
         if "corner_radius" not in item and default_r is None:
             raise ValueError(f"{k}.corner_radius: missing")
-        r = _num(item.get("corner_radius", default_r), f"{k}.corner_radius")
+        r = number(item.get("corner_radius", default_r), f"{k}.corner_radius")
         if r < 0:
             raise ValueError(f"{k}.corner_radius: must be >= 0, got {r:g}")
         if r > d / 2 + 1e-12:
