@@ -23,8 +23,7 @@ import yaml
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 
 from .adapters import ADAPTERS
-from .algorithms.ga import GAConfig
-from .algorithms.vega import VEGAConfig
+from .algorithms import ALGORITHMS
 from .errors import ConfigError
 
 
@@ -92,9 +91,10 @@ class EvaluationConfig(_Strict):
     chunks: int | None = Field(None, ge=1, description="pieces a batch is cut into (default: one per worker)")
 
 
-AlgorithmConfig = Annotated[
-    Union[(GAConfig, VEGAConfig, *(model for _, model in ADAPTERS.values()))], Field(discriminator="name")
-]
+# every algorithm a run or a study can name: name -> (class, settings model)
+REGISTRY: dict[str, tuple[type, type]] = {**ALGORITHMS, **ADAPTERS}
+
+AlgorithmConfig = Annotated[Union[tuple(model for _, model in REGISTRY.values())], Field(discriminator="name")]
 
 
 class RunConfig(_Strict):
@@ -149,7 +149,7 @@ def format_validation_error(error: ValidationError, source: str) -> str:
         msg = f"unknown algorithm {first['ctx']['tag']!r} (known: {first['ctx']['expected_tags']})"
     elif first["type"] == "union_tag_not_found":
         loc.append("name")
-        msg = f"missing (known: {', '.join(['ga', 'vega', *ADAPTERS])})"
+        msg = f"missing (known: {', '.join(REGISTRY)})"
     elif first["type"] == "missing":
         msg = "missing"
     else:

@@ -20,9 +20,8 @@ import yaml
 from tqdm import tqdm
 
 from . import __version__
-from .adapters import ADAPTERS, search_space
-from .algorithms import ALGORITHMS
-from .config import RunConfig, load_config, read_yaml
+from .adapters import search_space
+from .config import REGISTRY, RunConfig, load_config, read_yaml
 from .engine import HISTORY_COLUMNS, Checkpointer, RunState, Termination, run, write_atomic
 from .errors import ConfigError
 from .evaluation import Evaluator
@@ -53,7 +52,7 @@ class Prepared:
         return search_space(self.config.algorithm, self.space)
 
     def new_state(self) -> RunState:
-        algo_cls, _ = {**ALGORITHMS, **ADAPTERS}[self.config.algorithm.name]
+        algo_cls, _ = REGISTRY[self.config.algorithm.name]
         rng = np.random.default_rng(self.config.seed)
         algorithm = algo_cls(self.config.algorithm, self.search.n_bits, rng)
         return RunState(algorithm=algorithm, rng=rng, fingerprint=self.fingerprint)

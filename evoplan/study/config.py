@@ -31,14 +31,11 @@ from typing import Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
 
-from ..adapters import ADAPTERS
-from ..algorithms import ALGORITHMS
-from ..config import TerminationConfig, VariableOverride, read_yaml
+from ..config import REGISTRY, TerminationConfig, VariableOverride, read_yaml
 from ..errors import ConfigError
 from ..problem_factory import build_space, make_problem
 from .bbob import resolve_problem_name
 
-REGISTRY: dict[str, tuple[type, type]] = {**ALGORITHMS, **ADAPTERS}
 
 
 class _Strict(BaseModel):
