@@ -1,8 +1,8 @@
 """One cell of a study, run where a worker runs it: settings in, a record and a history out.
 
 :func:`run_cell` is what every backend executes. It builds the run as ``evoplan run`` does
-(:func:`evoplan.runner.prepare`, :meth:`~evoplan.runner.Prepared.new_state` for evoplan's own
-algorithms) and runs it with :func:`evoplan.engine.run` (no checkpoint: a study resumes cell by
+(:func:`evoplan.runner.prepare`, :meth:`~evoplan.runner.Prepared.new_state`, for evoplan's
+algorithms and the adapters alike) and runs it with :func:`evoplan.engine.run` (no checkpoint: a study resumes cell by
 cell). It returns plain data and touches no file, so a remote worker needs no shared disk.
 A run that raises is returned as a failed record with its error: the study goes on.
 
