@@ -1,0 +1,73 @@
+"""The zone map with each zone's passes (analogs of Djebali Fig. 17-18 and Herraz Fig. 6)."""
+
+from __future__ import annotations
+
+import io
+
+import numpy as np
+
+from .samples import SurfaceSamples
+
+__all__ = ["pass_segments", "zone_map_png"]
+
+
+def pass_segments(samples: SurfaceSamples, cell_zone: np.ndarray, zone: int, passes) -> list:
+    """XY polylines of a zone's passes: the zone's samples next to each plane, by t.
+
+    A pass is broken where the zone is interrupted along it (a gap of 3 sample spacings).
+    """
+    sel = cell_zone == zone
+    x, y = samples.x[sel], samples.y[sel]
+    fx, fy = np.cos(passes.alpha), np.sin(passes.alpha)
+    off, t = -fy * x + fx * y, fx * x + fy * y
+    lines = []
+    for s_k in passes.s:
+        near = np.abs(off - s_k) <= 0.5 * samples.spacing
+        if near.sum() < 2:
+            continue
+        tt = np.sort(t[near])
+        breaks = np.flatnonzero(np.diff(tt) > 3 * samples.spacing)
+        for a, b in zip(np.r_[0, breaks + 1], np.r_[breaks + 1, len(tt)]):
+            if b - a >= 2:
+                t0, t1 = tt[a], tt[b - 1]
+                lines.append([(-fy * s_k + fx * t0, fx * s_k + fy * t0),
+                              (-fy * s_k + fx * t1, fx * s_k + fy * t1)])
+    return lines
+
+
+def zone_map_png(surface, plan, samples: SurfaceSamples, title: str = "") -> bytes:
+    """PNG bytes: the zones in plan view (XY) coloured by zone, with their passes."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.collections import LineCollection
+
+    labels = plan.labels
+    n, m = labels.shape
+    gu, gv = np.meshgrid(np.linspace(0, 1, n + 1), np.linspace(0, 1, m + 1), indexing="ij")
+    corners = surface.points(gu.ravel(), gv.ravel()).reshape(n + 1, m + 1, 3)
+    cell_zone = labels.ravel()[samples.cell(n, m)]
+    fig, ax = plt.subplots(figsize=(7.5, 8), dpi=110)
+    cmap = plt.get_cmap("tab20", max(len(plan.zones), 1))
+    ax.pcolormesh(corners[..., 0], corners[..., 1], labels, cmap=cmap, alpha=0.45,
+                  vmin=-0.5, vmax=len(plan.zones) - 0.5, shading="flat")
+    for z in plan.zones:
+        segs = pass_segments(samples, cell_zone, z.zone, z.passes)
+        ax.add_collection(LineCollection(segs, colors=[cmap(z.zone)], linewidths=0.7))
+        inside = labels == z.zone
+        cx = corners[:-1, :-1, 0][inside].mean()
+        cy = corners[:-1, :-1, 1][inside].mean()
+        ax.annotate(f"{z.zone}: {round(z.direction_deg) % 180:.0f}°\n{z.length:.0f} mm", (cx, cy),
+                    ha="center", va="center", fontsize=7,
+                    bbox=dict(boxstyle="round", fc="white", alpha=0.7, lw=0))
+    ax.set_aspect("equal")
+    ax.set_xlabel("X (mm)")
+    ax.set_ylabel("Y (mm)")
+    ax.set_title(title or f"{plan.method}: {len(plan.zones)} zones, "
+                          f"total {plan.total_length:.0f} mm (Eq. 4)")
+    buf = io.BytesIO()
+    fig.tight_layout()
+    fig.savefig(buf, format="png")
+    plt.close(fig)
+    return buf.getvalue()

@@ -1,0 +1,141 @@
+"""A machining plan by zones: zoning, then per-zone direction, then Djebali Eq. 4.
+
+    total = sum over zones of Lg(z, alpha_opt(z)) + (|Z| - 1) * Delta L     (Djebali Eq. 4)
+
+Zoning methods: ``single`` (one zone: the "straightforward" plan of Djebali Sec. 6.1),
+``kmeans`` (Herraz's C4DO1D: ``kmeans.py``) and ``amas`` (Djebali's multi-agent system:
+``amas.py``). Each zone's direction is optimized on its own (``direction.py``) and its
+passes laid out by ``passes.py`` on the dense samples of ``samples.py``.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..checks import number
+from ..surface import Surface
+from .amas import amas_zoning
+from .direction import axial_mean, optimize_direction
+from .features import MeshFeatures, check_mesh, mesh_features
+from .kmeans import kmeans_zoning
+from .passes import ZonePasses, length_lower_bound
+from .samples import SurfaceSamples, sample_surface
+from .stepover import Cutter3Axis
+
+__all__ = ["METHODS", "ZonePlan", "ZoningPlan", "zone_labels", "plan_zones", "plan_from_labels"]
+
+METHODS = ("single", "kmeans", "amas")
+
+
+@dataclass(frozen=True)
+class ZonePlan:
+    """One zone: its cells, area (mm^2), start and best direction (deg), passes, bound."""
+
+    zone: int
+    cells: int
+    area: float
+    start_deg: float
+    direction_deg: float
+    start_length: float
+    passes: ZonePasses
+    lower_bound: float
+    evaluations: int
+
+    @property
+    def length(self) -> float:
+        return self.passes.length
+
+
+@dataclass
+class ZoningPlan:
+    """Zones, their plans, and the Eq. 4 total; ``info`` holds method-specific facts."""
+
+    method: str
+    labels: np.ndarray
+    zones: list[ZonePlan]
+    delta_l: float
+    seconds: dict[str, float]
+    info: dict = field(default_factory=dict)
+
+    @property
+    def cutting_length(self) -> float:
+        return float(sum(z.length for z in self.zones))
+
+    @property
+    def penalty(self) -> float:
+        return (len(self.zones) - 1) * self.delta_l
+
+    @property
+    def total_length(self) -> float:
+        """Djebali Eq. 4: cutting length + (|Z| - 1) Delta L (mm)."""
+        return self.cutting_length + self.penalty
+
+    @property
+    def link_length(self) -> float:
+        return float(sum(z.passes.link_length for z in self.zones))
+
+
+def zone_labels(features: MeshFeatures, method: str, k: int = 3, k_cmd: float = 1.0,
+                k_lz: float = 0.15, seed: int = 0, weights=(1.0, 1.0, 1.0, 1.0),
+                neutral_slope_deg: float = 0.0, satisfaction: str = "weighted") -> tuple:
+    """(labels (n, m), info dict) of a zoning method on the mesh features."""
+    if method == "single":
+        return np.zeros(features.shape, np.int64), {}
+    if method == "kmeans":
+        return kmeans_zoning(features, k, weights), {"K": int(k)}
+    if method == "amas":
+        neutral = features.slope < np.radians(number(neutral_slope_deg, "neutral_slope_deg"))
+        res = amas_zoning(features.optimal_feed, k_cmd=k_cmd, k_lz=k_lz, seed=seed,
+                          satisfaction=satisfaction, neutral=neutral)
+        return res.labels, {"cycles": res.cycles, "actions": res.actions,
+                            "settled": res.settled, "k_cmd": k_cmd, "k_lz": k_lz}
+    raise ValueError(f"method: expected one of {', '.join(METHODS)}, got {method!r}")
+
+
+def plan_from_labels(samples: SurfaceSamples, features: MeshFeatures, labels: np.ndarray,
+                     cutter: Cutter3Axis, delta_l: float = 40.0, model: str = "profile",
+                     scan: int = 12) -> tuple[list[ZonePlan], float]:
+    """Optimize every zone's direction; returns (zone plans, seconds)."""
+    t0 = time.perf_counter()
+    n, m = labels.shape
+    cell_zone = labels.ravel()[samples.cell(n, m)]
+    flat = labels.ravel()
+    weight = (features.area * np.sin(features.slope)).ravel()
+    steep = features.steepest.ravel()
+    area = features.area.ravel()
+    zones = []
+    for z in range(int(labels.max()) + 1):
+        in_zone = flat == z
+        sub = samples.take(cell_zone == z)
+        start = axial_mean(steep[in_zone], weight[in_zone])
+        best = optimize_direction(sub, cutter, start, model=model, scan=scan)
+        zones.append(ZonePlan(z, int(in_zone.sum()), float(area[in_zone].sum()),
+                              float(np.degrees(start)), float(np.degrees(best.alpha)),
+                              best.start_length, best.passes,
+                              length_lower_bound(sub, cutter), best.evaluations))
+    return zones, time.perf_counter() - t0
+
+
+def plan_zones(surface: Surface, cutter: Cutter3Axis, method: str = "kmeans",
+               mesh=(70, 70), delta_l: float = 40.0, model: str = "profile",
+               samples: SurfaceSamples | None = None, scan: int = 12, **zoning) -> ZoningPlan:
+    """The whole pipeline: features, zoning, per-zone directions, Eq. 4 total."""
+    delta_l = number(delta_l, "delta_l")
+    if delta_l < 0:
+        raise ValueError(f"delta_l: must be >= 0 mm, got {delta_l}")
+    if model not in ("profile", "circle"):
+        raise ValueError(f"stepover_model: expected profile or circle, got {model!r}")
+    n, m = check_mesh(*mesh)
+    t0 = time.perf_counter()
+    samples = samples if samples is not None else sample_surface(surface)
+    features = mesh_features(surface, n, m)
+    t1 = time.perf_counter()
+    labels, info = zone_labels(features, method, **zoning)
+    t2 = time.perf_counter()
+    zones, t_dir = plan_from_labels(samples, features, labels, cutter, delta_l, model, scan)
+    seconds = {"features": t1 - t0, "zoning": t2 - t1, "directions": t_dir,
+               "total": t2 - t0 + t_dir}
+    return ZoningPlan(method, labels, zones, delta_l, seconds, info)
