@@ -1,0 +1,19 @@
+"""Surface zoning for 3-axis finishing (Djebali et al. 2015; Herraz et al. 2021).
+
+Modules, one idea each:
+
+- ``samples``: dense samples of the surface as a graph z(x, y) (slope, direction, Hessian).
+- ``stepover``, ``profile``: the plane spacing keeping the scallop under h_c (R_eff circle of
+  Djebali Eq. 1, or the exact swept profile of the torus), capped by the cutter's width.
+- ``passes``: parallel planes restricted to a zone, its cutting length, a lower bound.
+- ``features``: the n x m mesh and its per-cell features.
+- ``kmeans``: Herraz's K-means zoning and connected zones; ``amas`` (+ ``amas_kernel``):
+  Djebali's multi-agent zoning.
+- ``direction``: per-zone feed direction (scipy bounded); ``plan``: the Eq. 4 pipeline.
+- ``problem``: zoning as genes of a pymoo problem; ``figures``: the zone map.
+"""
+
+from .plan import METHODS, ZoningPlan, plan_zones
+from .stepover import Cutter3Axis
+
+__all__ = ["METHODS", "Cutter3Axis", "ZoningPlan", "plan_zones"]

@@ -1,0 +1,115 @@
+"""Zoning as a decision of the toolpath problem: the pymoo problem GA and VEGA optimize.
+
+Genes (``variables``): the cutter (a choice from the tool database) and the zoning: the
+number of K-means clusters ``zones`` (Herraz) or, with ``method: amas``, Djebali's k_LZ.
+Delta L, h_c, the mesh and the surface come from the config. The objective is the machining
+length of Djebali Eq. 4 (mm): each zone machined along its optimized direction with the
+step-over that keeps the scallop under h_c, plus (|Z| - 1) Delta L. The step-over is then
+not a gene: at a given h_c the largest admissible one is always best for the length.
+
+A plan depends only on the decoded genes, so plans are memoized (the decoded space of
+``zones`` x tools is small); ``criteria(X)`` gives the raw numbers (zones, cutting length,
+penalty, total).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from pymoo.core.problem import Problem
+from pymoo.core.variable import Choice, Integer, Real
+
+from ..checks import interval, number
+from ..spec import parse_surface
+from ..tools import parse_tools
+from .features import check_mesh, mesh_features
+from .plan import plan_from_labels, zone_labels
+from .samples import sample_surface
+from .stepover import Cutter3Axis
+
+__all__ = ["ZonedToolpathProblem"]
+
+CHOI_TOOLS = [
+    {"id": 1, "type": "ball", "diameter": 6.35},
+    {"id": 2, "type": "toroidal", "diameter": 6.35, "corner_radius": 1.0},
+    {"id": 3, "type": "toroidal", "diameter": 6.35, "corner_radius": 1.27},
+    {"id": 4, "type": "flat", "diameter": 6.35},
+]
+
+
+class ZonedToolpathProblem(Problem):
+    """Tool and zoning chosen together; minimize the Eq. 4 length (see the module doc).
+
+    Plain-data params: ``surface`` (default choi), ``tools`` (default: Choi's R 3.175 ball,
+    toroidal r 1 and 1.27, flat), ``h_c`` (0.254), ``delta_l`` (40), ``mesh`` ([70, 70]),
+    ``method`` (kmeans | amas), ``zones`` range for kmeans ([1, 8]), ``k_lz`` range for amas
+    ([0.02, 0.6]), ``k_cmd`` (1), ``seed`` (AMAS tie-breaks), ``stepover_model``.
+    """
+
+    def __init__(self, surface="choi", tools=None, h_c=0.254, delta_l=40.0, mesh=(70, 70),
+                 method="kmeans", zones=(1, 8), k_lz=(0.02, 0.6), k_cmd=1.0, seed=0,
+                 stepover_model="profile", base_dir=None):
+        self.surface = parse_surface(surface, "surface", base_dir)
+        self.tool_db = parse_tools(tools if tools is not None else CHOI_TOOLS, "tools")
+        self.h_c = number(h_c, "h_c", positive=True)
+        self.delta_l = number(delta_l, "delta_l")
+        if self.delta_l < 0:
+            raise ValueError(f"delta_l: must be >= 0 mm, got {delta_l!r}")
+        if method not in ("kmeans", "amas"):
+            raise ValueError(f"method: expected kmeans or amas, got {method!r}")
+        if stepover_model not in ("profile", "circle"):
+            raise ValueError(f"stepover_model: expected profile or circle, got {stepover_model!r}")
+        self.method, self.model = method, stepover_model
+        self.k_cmd, self.seed = number(k_cmd, "k_cmd"), int(seed)
+        self.features = mesh_features(self.surface, *check_mesh(*mesh))
+        self.samples = sample_surface(self.surface)
+        ids = [int(t) for t in self.tool_db.ids]
+        if method == "kmeans":
+            lo, hi = interval(zones, "zones")
+            if lo < 1 or hi > self.features.size or lo != int(lo) or hi != int(hi):
+                raise ValueError(f"zones: expected integers in [1, {self.features.size}] "
+                                 f"(the mesh's cells), got {list(zones)!r}")
+            gene = Integer(bounds=(int(lo), int(hi)))
+        else:
+            lo, hi = interval(k_lz, "k_lz")
+            if lo < 0 or hi > 1:
+                raise ValueError(f"k_lz: the range must lie in [0, 1], got {list(k_lz)!r}")
+            gene = Real(bounds=(lo, hi))
+        self.gene = "zones" if method == "kmeans" else "k_lz"
+        self.variables = {"tool": Choice(options=ids), self.gene: gene}
+        self._plans: dict = {}
+        self._labels: dict = {}
+        super().__init__(n_var=2, n_obj=1, xl=np.array([0.0, lo]),
+                         xu=np.array([len(ids) - 1.0, hi]), vtype=float)
+
+    def cutter(self, tool_index: int) -> Cutter3Axis:
+        t = self.tool_db.tools[int(tool_index)]
+        return Cutter3Axis(t.radius, t.corner_radius, self.h_c)
+
+    def plan(self, tool_index: int, value: float) -> dict[str, float]:
+        """Raw numbers of one decoded gene pair (memoized)."""
+        value = int(round(value)) if self.gene == "zones" else round(float(value), 9)
+        key = (int(tool_index), value)
+        if key not in self._plans:
+            if value not in self._labels:
+                if self.gene == "zones":
+                    labels, _ = zone_labels(self.features, "kmeans", k=value)
+                else:
+                    labels, _ = zone_labels(self.features, "amas", k_cmd=self.k_cmd,
+                                            k_lz=value, seed=self.seed)
+                self._labels[value] = labels
+            labels = self._labels[value]
+            zones, _ = plan_from_labels(self.samples, self.features, labels,
+                                        self.cutter(tool_index), self.delta_l, self.model)
+            cutting = float(sum(z.length for z in zones))
+            penalty = (len(zones) - 1) * self.delta_l
+            self._plans[key] = {"zones": float(len(zones)), "cutting_length": cutting,
+                                "penalty": penalty, "total_length": cutting + penalty}
+        return self._plans[key]
+
+    def criteria(self, X) -> dict[str, np.ndarray]:
+        X = np.atleast_2d(np.asarray(X, float))
+        rows = [self.plan(int(round(x[0])), x[1]) for x in X]
+        return {k: np.array([r[k] for r in rows]) for k in rows[0]}
+
+    def _evaluate(self, X, out, *args, **kwargs):
+        out["F"] = self.criteria(X)["total_length"][:, None]
