@@ -184,3 +184,22 @@ def test_zone_cli_writes_everything_or_nothing(tmp_path):
         assert code == 2 and msg in stderr and "Traceback" not in stderr
         assert stderr.count("\n") == 1
         assert not out2.exists()
+
+
+def test_zoning_genes_in_the_toolpath_problem():
+    from evoplan.problems.toolpath.zoning.problem import ZonedToolpathProblem
+
+    prob = ZonedToolpathProblem(mesh=(20, 20), zones=(1, 4))
+    assert list(prob.variables) == ["tool", "zones"]
+    X = np.array([[0, 1], [1, 1], [1, 2]], float)  # ball 1 zone, torus 1 zone, torus K=2
+    c = prob.criteria(X)
+    assert c["zones"][0] == c["zones"][1] == 1 and c["zones"][2] >= 2
+    assert np.allclose(c["total_length"], c["cutting_length"] + (c["zones"] - 1) * 40.0)
+    out = {}
+    prob._evaluate(X, out)
+    assert np.allclose(out["F"][:, 0], c["total_length"])
+    assert c["total_length"][2] < c["total_length"][1]  # zoning pays off for the torus
+    with pytest.raises(ValueError, match="^zones: expected integers in \\[1, 400\\]"):
+        ZonedToolpathProblem(mesh=(20, 20), zones=(1, 401))
+    with pytest.raises(ValueError, match="^k_lz: the range must lie in \\[0, 1\\]"):
+        ZonedToolpathProblem(mesh=(20, 20), method="amas", k_lz=(0.1, 1.5))
