@@ -137,7 +137,6 @@ def zones_csv(features, labels) -> bytes:
 
 
 def main(args: argparse.Namespace) -> int:
-    from ..problems.toolpath.zoning.features import mesh_features
     from ..problems.toolpath.zoning.figures import zone_map_png
 
     cfg = load(args.config)
@@ -148,9 +147,8 @@ def main(args: argparse.Namespace) -> int:
         raise EvoplanError(f"{out}: already exists and is not empty: choose another --out")
     try:
         surface, samples, plan = build_plan(cfg, Path(args.config).resolve().parent)
-        features = mesh_features(surface, *cfg.mesh)
         files = {"summary.json": json.dumps(summary(cfg, plan), indent=2).encode(),
-                 "zones.csv": zones_csv(features, plan.labels),
+                 "zones.csv": zones_csv(plan.features, plan.labels),
                  "zone_map.png": zone_map_png(surface, plan, samples,
                                               title=f"{cfg.name}: {plan.method}, "
                                                     f"{len(plan.zones)} zones, total "

@@ -59,6 +59,7 @@ class ZoningPlan:
     delta_l: float
     seconds: dict[str, float]
     info: dict = field(default_factory=dict)
+    features: MeshFeatures | None = None
 
     @property
     def cutting_length(self) -> float:
@@ -96,8 +97,7 @@ def zone_labels(features: MeshFeatures, method: str, k: int = 3, k_cmd: float = 
 
 
 def plan_from_labels(samples: SurfaceSamples, features: MeshFeatures, labels: np.ndarray,
-                     cutter: Cutter3Axis, delta_l: float = 40.0, model: str = "profile",
-                     scan: int = 12) -> tuple[list[ZonePlan], float]:
+                     cutter: Cutter3Axis, model: str = "profile", scan: int = 12) -> tuple[list[ZonePlan], float]:
     """Optimize every zone's direction; returns (zone plans, seconds)."""
     t0 = time.perf_counter()
     n, m = labels.shape
@@ -135,7 +135,7 @@ def plan_zones(surface: Surface, cutter: Cutter3Axis, method: str = "kmeans",
     t1 = time.perf_counter()
     labels, info = zone_labels(features, method, **zoning)
     t2 = time.perf_counter()
-    zones, t_dir = plan_from_labels(samples, features, labels, cutter, delta_l, model, scan)
+    zones, t_dir = plan_from_labels(samples, features, labels, cutter, model, scan)
     seconds = {"features": t1 - t0, "zoning": t2 - t1, "directions": t_dir,
                "total": t2 - t0 + t_dir}
-    return ZoningPlan(method, labels, zones, delta_l, seconds, info)
+    return ZoningPlan(method, labels, zones, delta_l, seconds, info, features)

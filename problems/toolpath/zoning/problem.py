@@ -99,7 +99,7 @@ class ZonedToolpathProblem(Problem):
                 self._labels[value] = labels
             labels = self._labels[value]
             zones, _ = plan_from_labels(self.samples, self.features, labels,
-                                        self.cutter(tool_index), self.delta_l, self.model)
+                                        self.cutter(tool_index), self.model)
             cutting = float(sum(z.length for z in zones))
             penalty = (len(zones) - 1) * self.delta_l
             self._plans[key] = {"zones": float(len(zones)), "cutting_length": cutting,
