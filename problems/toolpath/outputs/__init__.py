@@ -1,0 +1,1 @@
+"""NC output of a toolpath: APT CL files (write and read back)."""
