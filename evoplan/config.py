@@ -24,6 +24,7 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_valida
 
 from .adapters import ADAPTERS
 from .algorithms import ALGORITHMS
+from .cache import CacheConfig
 from .errors import ConfigError
 
 
@@ -106,6 +107,7 @@ class RunConfig(_Strict):
     checkpoint: CheckpointConfig = CheckpointConfig()
     evaluation: EvaluationConfig = EvaluationConfig()
     output: OutputConfig = OutputConfig()
+    cache: CacheConfig = CacheConfig()  # evaluation cache and what the budget counts (evoplan/cache.py)
 
     def resolved(self) -> dict[str, Any]:
         """Every setting, defaults included, as plain data (what ``config.yaml`` records)."""

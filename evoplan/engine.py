@@ -1,9 +1,11 @@
 """The run engine: ask -> evaluate -> tell -> record -> checkpoint, until a termination criterion.
 
-The engine owns the counting: every genotype an algorithm asks for is decoded, evaluated and
-counted (the re-evaluation of infected hosts included), and the best genotype ever evaluated
-is kept. After each generation it appends one history row and may write a checkpoint. The
-whole state lives in :class:`RunState` (the algorithm with the generator it draws from, the
+The engine owns the counting: every genotype an algorithm asks for is looked up in the run's
+:class:`~evoplan.cache.EvaluationCache` (if any) and, if new, decoded, evaluated and counted
+(VEGA's infections included); ``cache.budget`` says whether a cache hit is charged too. The
+best genotype ever evaluated is kept, with the trace of improvements at evaluation
+granularity (``improvements``: the evaluation count and value of every new best). After each
+generation it appends one history row and may write a checkpoint. The whole state lives in :class:`RunState` (the algorithm with the generator it draws from, the
 counters, the history), so a run resumed from a checkpoint continues with the very numbers an
 uninterrupted run would have drawn.
 """
@@ -22,10 +24,11 @@ import numpy as np
 
 from . import __version__
 from .algorithms.base import Algorithm
-from .evaluation import Evaluator
+from .cache import EvaluationCache
+from .evaluation import Evaluation, Evaluator
 from .space import Space
 
-HISTORY_COLUMNS = ("generation", "evaluations", "best", "mean", "worst", "std", "failures", "seconds")
+HISTORY_COLUMNS = ("generation", "evaluations", "best", "mean", "worst", "std", "failures", "cache_hits", "seconds")
 MAX_ERRORS_KEPT = 5
 
 
@@ -52,6 +55,8 @@ class Termination:
             return "evaluations"
         if self.seconds is not None and state.elapsed >= self.seconds:
             return "seconds"
+        if state.cache is not None and state.stalled >= state.cache.stall_generations:
+            return "stalled"  # budget: distinct, and no new genotype for that many generations
         return None
 
 
@@ -71,6 +76,10 @@ class RunState:
     stop_reason: str | None = None
     fingerprint: str = ""
     version: str = __version__
+    cache: EvaluationCache | None = None
+    cache_hits: int = 0  # genotypes answered by the cache (charged only under budget: all)
+    stalled: int = 0  # consecutive generations without a charged evaluation
+    improvements: list[tuple[int, float]] = field(default_factory=list)  # (evaluation, new best)
 
     def record(self) -> None:
         """Append the history row of the generation that just ended."""
@@ -80,7 +89,7 @@ class RunState:
         stats = (f.mean(), f.max(), f.std()) if f.size else (np.nan, np.nan, np.nan)
         self.history.append(
             (self.algorithm.generation, self.evaluations, self.best_f, *map(float, stats),
-             self.failures, round(self.elapsed, 6))
+             self.failures, self.cache_hits, round(self.elapsed, 6))
         )
 
 
@@ -146,19 +155,13 @@ def run(
     """Run (or continue) the algorithm in ``state`` until ``termination``; returns the state."""
     algo = state.algorithm
     clock0 = time.perf_counter() - state.elapsed
+    charged_before = state.evaluations
     while not (state.history and (reason := termination.reached(state))):
         G = algo.ask()
-        result = evaluator(space.decode(G))
-        state.evaluations += len(G)
-        if result.failed.any():
-            state.failures += int(result.failed.sum())
-            for message in dict.fromkeys(result.errors):  # distinct messages, the first few
-                if message not in state.errors and len(state.errors) < MAX_ERRORS_KEPT:
-                    state.errors.append(message)
-        i = int(np.argmin(result.f))
-        if result.f[i] < state.best_f:
-            state.best_f, state.best_g = float(result.f[i]), G[i].copy()
-        if algo.tell(result.f):
+        f = evaluate(state, G, space, evaluator)
+        if algo.tell(f):
+            state.stalled = 0 if state.evaluations > charged_before else state.stalled + 1
+            charged_before = state.evaluations
             state.elapsed = time.perf_counter() - clock0
             state.record()
             if on_generation is not None:
@@ -169,3 +172,52 @@ def run(
     if checkpointer is not None:
         checkpointer.save(state)
     return state
+
+
+def evaluate(state: RunState, G: np.ndarray, space: Space, evaluator: Evaluator) -> np.ndarray:
+    """Objective values of the batch ``G``: cached ones looked up, new ones evaluated and counted.
+
+    Rows are charged in batch order, so the k-th charged row is evaluation ``k`` of the run:
+    the index ``improvements`` records (first-hit runtimes at evaluation granularity).
+    """
+    n = len(G)
+    cache = state.cache
+    if cache is None:
+        keys, f, first = None, np.full(n, np.nan), np.arange(n)
+    else:
+        keys, f, first = cache.lookup(G)
+    todo = np.flatnonzero(np.isnan(f) & (first == np.arange(n)))
+    if todo.size:
+        result = evaluator(space.decode(G[todo]))
+        f[todo] = result.f
+        _count_failures(state, result)
+        if cache is not None:
+            cache.store(keys[todo], result.f)
+    repeat = np.isnan(f)  # a row repeated inside the batch takes its first occurrence's value
+    f[repeat] = f[first[repeat]]
+    charged = np.zeros(n, dtype=bool)
+    charged[todo] = True
+    hits = n - todo.size
+    if cache is not None:
+        cache.hits += hits
+        cache.misses += todo.size
+        state.cache_hits += hits
+        if cache.charge_hits:
+            charged[:] = True
+    index = state.evaluations + np.cumsum(charged)  # evaluation number of each row
+    state.evaluations += int(charged.sum())
+    previous = np.minimum.accumulate(np.concatenate([[state.best_f], f]))[:-1]
+    for i in np.flatnonzero(f < previous):
+        state.improvements.append((int(index[i]), float(f[i])))
+    if n and f.min() < state.best_f:
+        i = int(np.argmin(f))
+        state.best_f, state.best_g = float(f[i]), G[i].copy()
+    return f
+
+
+def _count_failures(state: RunState, result: Evaluation) -> None:
+    if result.failed.any():
+        state.failures += int(result.failed.sum())
+        for message in dict.fromkeys(result.errors):  # distinct messages, the first few
+            if message not in state.errors and len(state.errors) < MAX_ERRORS_KEPT:
+                state.errors.append(message)

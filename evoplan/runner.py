@@ -21,6 +21,7 @@ from tqdm import tqdm
 
 from . import __version__
 from .adapters import search_space
+from .cache import EvaluationCache
 from .config import REGISTRY, RunConfig, load_config, read_yaml
 from .engine import HISTORY_COLUMNS, Checkpointer, RunState, Termination, run, write_atomic
 from .errors import ConfigError
@@ -55,7 +56,8 @@ class Prepared:
         algo_cls, _ = REGISTRY[self.config.algorithm.name]
         rng = np.random.default_rng(self.config.seed)
         algorithm = algo_cls(self.config.algorithm, self.search.n_bits, rng)
-        return RunState(algorithm=algorithm, rng=rng, fingerprint=self.fingerprint)
+        cache = EvaluationCache.from_config(self.config.cache)
+        return RunState(algorithm=algorithm, rng=rng, fingerprint=self.fingerprint, cache=cache)
 
 
 def prepare(config: RunConfig, source: str = "<config>") -> Prepared:

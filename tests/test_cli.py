@@ -48,7 +48,7 @@ def test_run_writes_every_result_file(tmp_path):
     assert set(best["variables"]) == {"x", "y"} and best["seed"] == 3
     assert best["algorithm"] == "vega" and best["problem"] == "kubota" and best["failures"] == 0
     history = pd.read_csv(out / "history.csv")
-    assert list(history.columns) == ["generation", "evaluations", "best", "mean", "worst", "std", "failures", "seconds"]
+    assert list(history.columns) == ["generation", "evaluations", "best", "mean", "worst", "std", "failures", "cache_hits", "seconds"]
     assert len(history) == 11 and history["evaluations"].iloc[-1] == best["evaluations"]
     assert best["objective"] == pytest.approx(history["best"].iloc[-1])
     assert (out / "convergence.png").read_bytes()[:4] == b"\x89PNG"

@@ -7,11 +7,13 @@ cell). It returns plain data and touches no file, so a remote worker needs no sh
 A run that raises is returned as a failed record with its error: the study goes on.
 
 **Equal budgets.** Every algorithm, adapters included, is driven by the same engine loop, which
-counts every row it has evaluated and stops after the generation in which the budget is reached
-(so a run may use up to one batch more). For an exactly equal comparison :class:`BudgetTracker`
-sees every batch in evaluation order and keeps ``final_best``: the best value among the first
-``budget`` evaluations, exactly ``budget`` for every algorithm; ``best_overall`` and
-``evaluations`` report the whole run.
+charges the budget (distinct genotypes evaluated, or every genotype asked for: the ``cache``
+group, see :mod:`evoplan.cache`) and stops after the generation in which the budget is
+reached (so a run may use up to one batch more). For an exactly equal comparison the engine's
+trace of improvements, indexed by evaluation, gives ``final_best``: the best value among the
+first ``budget`` evaluations, exactly ``budget`` for every algorithm; ``best_overall`` and
+``evaluations`` report the whole run. The trace is returned too (first-hit runtimes at
+evaluation granularity, the IOHprofiler export).
 """
 
 from __future__ import annotations
@@ -25,26 +27,13 @@ import numpy as np
 
 from ..config import parse_config
 from ..engine import RunState, run
-from ..evaluation import Evaluation
 from ..runner import Prepared, history_frame, prepare
 from .grid import Cell
 
-class BudgetTracker:
-    """Wraps an evaluator; keeps the best value among the first ``budget`` evaluations."""
-
-    def __init__(self, evaluator, budget: int | None) -> None:
-        self.evaluator = evaluator
-        self.budget = budget
-        self.count = 0
-        self.best = np.inf
-
-    def __call__(self, X: np.ndarray) -> Evaluation:
-        result = self.evaluator(X)
-        inside = len(X) if self.budget is None else max(0, min(len(X), self.budget - self.count))
-        if inside:
-            self.best = min(self.best, float(np.min(result.f[:inside])))
-        self.count += len(X)
-        return result
+def best_within(improvements: list[tuple[int, float]], budget: int | None) -> float:
+    """The best value among the first ``budget`` evaluations, from a run's improvement trace."""
+    inside = [f for e, f in improvements if budget is None or e <= budget]
+    return inside[-1] if inside else np.inf
 
 
 def optimum(problem) -> float | None:
@@ -67,27 +56,30 @@ def build(run_settings: dict[str, Any]) -> tuple[Prepared, RunState, Any]:
     return prepared, prepared.new_state(), prepared.search
 
 
-def run_cell(cell: Cell) -> tuple[dict[str, Any], list[tuple]]:
-    """Run ``cell``; returns its record (one row of ``runs.csv``) and its history rows."""
+def run_cell(cell: Cell) -> tuple[dict[str, Any], list[tuple], list[tuple[int, float]]]:
+    """Run ``cell``; returns its record (one row of ``runs.csv``), its history rows and its
+    improvement trace ``[(evaluation, new best value), ...]``."""
     random.seed(cell.seed)  # libraries that draw from global generators (cma) start the same
     np.random.seed(cell.seed)
     t0 = time.perf_counter()
     record: dict[str, Any] = {"key": cell.key, **cell.labels(), "budget": cell.budget}
     history: list[tuple] = []
+    trace: list[tuple[int, float]] = []
     try:
         prepared, state, space = build(cell.run)
         record["optimum"] = optimum(prepared.evaluator.problem)
-        tracker = BudgetTracker(prepared.evaluator, cell.budget)
-        run(state, space, tracker, prepared.termination)
+        run(state, space, prepared.evaluator, prepared.termination)
         history = [tuple(map(_plain, row)) for row in history_frame(state).itertuples(index=False)]
-        record.update(status="ok", error="", final_best=_finite(tracker.best), best_overall=_finite(state.best_f),
+        trace = list(state.improvements)
+        record.update(status="ok", error="", final_best=_finite(best_within(trace, cell.budget)),
+                      best_overall=_finite(state.best_f), cache_hits=state.cache_hits,
                       evaluations=state.evaluations, generations=state.algorithm.generation,
                       failures=state.failures, stop_reason=state.stop_reason,
                       failure_messages=" | ".join(state.errors), best_variables=_variables(prepared, state))
     except Exception as e:  # noqa: BLE001 - a crashed run is a result, not the end of the study
         record.update(status="failed", error=f"{type(e).__name__}: {e}".splitlines()[0][:500])
     record["wall_seconds"] = round(time.perf_counter() - t0, 4)
-    return record, history
+    return record, history, trace
 
 
 def _variables(prepared: Prepared, state: RunState) -> str:

@@ -17,7 +17,8 @@ Layout::
       algorithm: vega                                   # the label of the entry varied
       vary: {virus.count: [2, 5, 7, 10], virus.infection_rate: [0.1, {virus.infection_rate: 1.0}]}
     statistics: {reference: ga, test: signed_rank, alpha: 0.05, targets: null}
-    output: {plots: true}
+    output: {plots: true, ioh: true}
+    cache: {size: 100000, budget: distinct}   # see evoplan/cache.py
 
 Every name is checked here (algorithms, problems, dimensions, every factor level's settings),
 so a bad study stops with one line before any run starts.
@@ -31,6 +32,7 @@ from typing import Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
 
+from ..cache import CacheConfig
 from ..config import REGISTRY, TerminationConfig, VariableOverride, read_yaml
 from ..errors import ConfigError
 from ..problem_factory import build_space, make_problem
@@ -80,6 +82,7 @@ class StatisticsConfig(_Strict):
 
 class OutputConfig(_Strict):
     plots: bool = True
+    ioh: bool = Field(True, description="export every run in IOHprofiler format (ioh/ folder)")
 
 
 class StudyConfig(_Strict):
@@ -92,6 +95,7 @@ class StudyConfig(_Strict):
     factors: FactorsConfig | None = None
     statistics: StatisticsConfig = StatisticsConfig()
     output: OutputConfig = OutputConfig()
+    cache: CacheConfig = CacheConfig()  # every run's evaluation cache and budget counting
 
     @model_validator(mode="after")
     def _algorithm_entries(self):

@@ -5,6 +5,7 @@ Layout::
     DIR/study.yaml               the study, every setting resolved (written first)
     DIR/cells/<key>.json         one finished run: its record and the settings that made it
     DIR/histories/<key>.csv      that run's history (one row per generation, as history.csv)
+    DIR/traces/<key>.csv         its improvements: evaluation, best (every new best, as it happened)
     DIR/runs.csv  summary.csv  tests.csv  report.md  figures/*.png   (analysis, rebuilt each time)
 
 A cell's files are written atomically, the history before the record, so a study killed at any
@@ -27,6 +28,7 @@ from ..errors import ConfigError
 from .grid import Cell
 
 STUDY_FILE = "study.yaml"
+TRACE_COLUMNS = ("evaluation", "best")
 
 
 class StudyFolder:
@@ -35,6 +37,7 @@ class StudyFolder:
         self.name = name
         self.cells = self.out / "cells"
         self.histories = self.out / "histories"
+        self.traces = self.out / "traces"
 
     def check(self) -> None:
         """Refuse a folder that holds something other than this study (before any run)."""
@@ -58,6 +61,7 @@ class StudyFolder:
         self.check()
         self.cells.mkdir(parents=True, exist_ok=True)
         self.histories.mkdir(parents=True, exist_ok=True)
+        self.traces.mkdir(parents=True, exist_ok=True)
         write_atomic(self.out / STUDY_FILE, yaml.safe_dump(resolved, sort_keys=False).encode())
 
     def _record_path(self, cell: Cell) -> Path:
@@ -73,9 +77,12 @@ class StudyFolder:
             return None
         return stored["record"]
 
-    def save(self, cell: Cell, record: dict[str, Any], history: list[tuple]) -> None:
+    def save(self, cell: Cell, record: dict[str, Any], history: list[tuple],
+             trace: list[tuple[int, float]] = ()) -> None:
         frame = pd.DataFrame(history, columns=list(HISTORY_COLUMNS))
         write_atomic(self.histories / f"{cell.key}.csv", frame.to_csv(index=False).encode())
+        steps = pd.DataFrame(list(trace), columns=list(TRACE_COLUMNS))
+        write_atomic(self.traces / f"{cell.key}.csv", steps.to_csv(index=False).encode())
         doc = {"record": record, "fingerprint": cell.fingerprint, "run": cell.run}
         write_atomic(self._record_path(cell), (json.dumps(doc, indent=1) + "\n").encode())
 
@@ -84,6 +91,11 @@ class StudyFolder:
         if not path.is_file():
             return pd.DataFrame(columns=list(HISTORY_COLUMNS))
         return pd.read_csv(path)
+
+    def trace(self, key: str) -> pd.DataFrame | None:
+        """The improvement trace of a run; None for a run saved before traces were kept."""
+        path = self.traces / f"{key}.csv"
+        return pd.read_csv(path) if path.is_file() else None
 
     def write_table(self, name: str, frame: pd.DataFrame) -> None:
         write_atomic(self.out / name, frame.to_csv(index=False).encode())
@@ -98,7 +110,7 @@ class StudyFolder:
 
 
 RUN_COLUMNS = ["key", "algorithm", "problem", "dimension", "factor", "level", "repetition", "seed", "status",
-               "final_best", "best_overall", "optimum", "budget", "evaluations", "generations", "failures",
+               "final_best", "best_overall", "optimum", "budget", "evaluations", "cache_hits", "generations", "failures",
                "stop_reason", "wall_seconds", "error", "failure_messages", "best_variables"]
 
 

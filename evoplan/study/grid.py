@@ -109,7 +109,8 @@ def build_grid(study: StudyConfig, source: str = "<study>") -> list[Cell]:
                     tag = f"{factor}={level}" if factor else "base"
                     key = _safe(f"{plabel}.d{dim}.{alabel}.{tag}.r{r:03d}")
                     run = {"name": key, "seed": seed, "problem": problem, "algorithm": settings,
-                           "termination": termination, "output": {"plot": False}}
+                           "termination": termination, "output": {"plot": False},
+                           "cache": study.cache.model_dump(mode="json")}
                     cells.append(Cell(key, alabel, plabel, dim, factor, level, r, seed,
                                       termination["evaluations"], run))
     keys = [c.key for c in cells]

@@ -43,10 +43,10 @@ def run_cells(todo: list[Cell], folder: StudyFolder, pool, progress: bool | None
         for future in pool.as_completed(futures):
             cell = futures[future]
             try:
-                record, history = future.result()
+                record, history, trace = future.result()
             except Exception as e:  # noqa: BLE001 - a lost task is a failed run, not the end
-                record, history = _lost(cell, e), []
-            folder.save(cell, record, history)
+                record, history, trace = _lost(cell, e), [], []
+            folder.save(cell, record, history, trace)
             failed += record["status"] != "ok"
             bar.update(1)
             bar.set_postfix(failed=failed, refresh=False)

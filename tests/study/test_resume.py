@@ -99,6 +99,6 @@ def test_runs_record_the_best_variables():
     study = parse_study({"seeds": 1, "budget": {"generations": 3}, "problems": [{"name": "kubota"}],
                          "algorithms": [{"name": "ga", "population": 10}, {"name": "pymoo_de", "pop_size": 10}]})
     for cell in build_grid(study):
-        record, _ = run_cell(cell)
+        record, *_ = run_cell(cell)
         variables = json.loads(record["best_variables"])
         assert set(variables) == {"x", "y"} and all(-1 <= v <= 1 for v in variables.values())
