@@ -21,6 +21,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .toolpath import Tool, Toolpath
+
 MAX_COLUMNS = 72
 COOLANTS = ("ON", "FLOOD", "MIST", "AIR", "OFF")
 
@@ -59,7 +61,7 @@ def header(*, diameter: float, corner_radius: float, part: str = "EVOPLAN", comm
         lines += _fit(f"$$ {c}"[:MAX_COLUMNS])
     lines += [f"$$ TOOLPOINT {'CENTRE' if tip_is_centre else 'TIP'}", "UNITS/MM", f"LOADTL/{int(tool_number)}"]
     lines += _fit(f"CUTTER/{diameter:.4f},{corner_radius:.4f}")
-    if spindle_rpm is not None:
+    if spindle_rpm:
         lines.append(f"SPINDL/{spindle_rpm:.0f},RPM,CLW")
     lines.append(f"COOLNT/{coolant.upper()}")
     lines.append("MULTAX/ON" if multax else "TLAXIS/0,0,1")
@@ -71,35 +73,44 @@ def footer() -> list[str]:
     return ["COOLNT/OFF", "SPINDL/OFF", "FINI"]
 
 
+def apt_toolpath(tp: Toolpath, *, part: str = "EVOPLAN", coolant: str = "ON", tip_is_centre: bool = False) -> str:
+    """The CL file of one operation (``toolpath.Toolpath``): header, the moves with ``RAPID``
+    before each rapid and a ``FEDRAT`` wherever the feed changes (plunge or cutting), a
+    ``$$ <label> k`` comment where each section starts, footer."""
+    multax = tp.multi_axis
+    lines = header(diameter=tp.tool.diameter, corner_radius=tp.tool.corner_radius, part=part,
+                   comments=tp.comments, tool_number=tp.tool.number, spindle_rpm=tp.tool.spindle_rpm,
+                   coolant=coolant, tip_is_centre=tip_is_centre, multax=multax)
+    feed, section = None, -1
+    for n in range(len(tp.tip)):
+        if tp.section[n] != section and tp.section[n] >= 0:
+            lines.append(f"$$ {tp.section_label} {int(tp.section[n])}")
+        section = tp.section[n]
+        if tp.rapid[n]:
+            lines.append("RAPID")
+        else:
+            want = tp.plunge_feed if tp.plunge[n] else tp.feed
+            if want != feed:
+                lines += _fit(f"FEDRAT/{want:.4f},MMPM")
+                feed = want
+        lines += goto(tp.tip[n:n + 1], tp.axis[n:n + 1] if multax else None)
+    return "\n".join(lines + footer()) + "\n"
+
+
 def apt_program(
     tip: np.ndarray, axis: np.ndarray, pass_index: np.ndarray, *, diameter: float, corner_radius: float,
     feed_rate: float, part: str = "EVOPLAN", comments: list[str] | None = None, clearance: float = 10.0,
     plunge_feed: float | None = None, tool_number: int = 1, spindle_rpm: float | None = None,
     coolant: str = "ON", tip_is_centre: bool = False,
 ) -> str:
-    """The whole CL file: approach above the first point, plunge, the passes in order, retract.
+    """The whole CL file of a finishing toolpath given as passes (``Toolpath.from_passes``):
+    approach above the first point, plunge, the passes in order, retract.
 
     ``tip``/``axis``: (m, 3) tool point and unit tool axis in machining order; ``pass_index``:
     (m,) the pass of each point (a ``$$ PASS k`` comment marks where each one starts).
     ``plunge_feed``: feed of the move down to the first point (default: half ``feed_rate``).
     """
-    tip, axis, pass_index = np.asarray(tip, float), np.asarray(axis, float), np.asarray(pass_index)
-    if tip.ndim != 2 or tip.shape[1] != 3 or axis.shape != tip.shape or len(pass_index) != len(tip):
-        raise ValueError("tip and axis must be (m, 3) and pass_index (m,)")
-    if len(tip) == 0:
-        raise ValueError("an empty toolpath has no APT program")
-    plunge = 0.5 * feed_rate if plunge_feed is None else plunge_feed
-    lines = header(diameter=diameter, corner_radius=corner_radius, part=part, comments=comments,
-                   tool_number=tool_number, spindle_rpm=spindle_rpm, coolant=coolant, tip_is_centre=tip_is_centre)
-    lines += ["RAPID", *goto(tip[:1] + clearance * axis[:1], axis[:1])]
-    lines += _fit(f"FEDRAT/{plunge:.4f},MMPM")
-    starts = np.flatnonzero(np.r_[True, pass_index[1:] != pass_index[:-1]])
-    bounds = np.r_[starts, len(tip)]
-    for n, (a, b) in enumerate(zip(bounds[:-1], bounds[1:])):
-        lines.append(f"$$ PASS {int(pass_index[a])}")
-        if n == 0:
-            lines += goto(tip[:1], axis[:1]) + _fit(f"FEDRAT/{feed_rate:.4f},MMPM")
-            a += 1
-        lines += goto(tip[a:b], axis[a:b])
-    lines += ["RAPID", *goto(tip[-1:] + clearance * axis[-1:], axis[-1:]), *footer()]
-    return "\n".join(lines) + "\n"
+    tool = Tool(tool_number, diameter, corner_radius, spindle_rpm)
+    tp = Toolpath.from_passes("finish", tool, tip, axis, pass_index, feed=feed_rate, plunge_feed=plunge_feed,
+                              clearance=clearance, comments=comments)
+    return apt_toolpath(tp, part=part, coolant=coolant, tip_is_centre=tip_is_centre)

@@ -1,0 +1,122 @@
+"""One NC operation's toolpath: the moves every writer (APT, the G-code posts, DXF) reads.
+
+Points are in machining order; the flags say how the tool moves INTO each point:
+``rapid`` (positioning, no cut), ``plunge`` (cutting at the plunge feed), else cutting at the
+operation's feed. ``section`` is the pass or layer a point belongs to (-1 for approach and
+retract moves).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+
+@dataclass
+class Tool:
+    """The cutter as the NC program needs it: number, diameter D, corner radius r (0: flat
+    end mill, D/2: ball end mill), spindle speed (rpm)."""
+
+    number: int
+    diameter: float
+    corner_radius: float = 0.0
+    spindle_rpm: float | None = 6000.0
+
+    def label(self) -> str:
+        kind = "flat" if self.corner_radius == 0 else "ball" if self.corner_radius * 2 == self.diameter else "toroidal"
+        return f"{kind} D{self.diameter:g}" + (f" r{self.corner_radius:g}" if kind == "toroidal" else "")
+
+
+@dataclass
+class Toolpath:
+    """tip (m, 3) tool tip; axis (m, 3) unit tool axis; rapid/plunge (m,) bool; section (m,)."""
+
+    name: str
+    tool: Tool
+    tip: np.ndarray
+    axis: np.ndarray
+    rapid: np.ndarray
+    plunge: np.ndarray
+    section: np.ndarray
+    feed: float
+    plunge_feed: float
+    section_label: str = "PASS"
+    comments: list[str] = field(default_factory=list)
+
+    def __post_init__(self):
+        self.tip = np.asarray(self.tip, float).reshape(-1, 3)
+        self.axis = np.asarray(self.axis, float).reshape(-1, 3)
+        m = len(self.tip)
+        self.rapid = np.asarray(self.rapid, bool).reshape(m)
+        self.plunge = np.asarray(self.plunge, bool).reshape(m)
+        self.section = np.asarray(self.section, int).reshape(m)
+        if self.axis.shape != self.tip.shape or m == 0:
+            raise ValueError(f"{self.name}: tip and axis must be (m, 3) with m > 0")
+
+    @property
+    def multi_axis(self) -> bool:
+        """True unless every axis is +Z (a 3-axis program)."""
+        return not np.allclose(self.axis, [0.0, 0.0, 1.0], atol=1e-12)
+
+    def segment_lengths(self) -> np.ndarray:
+        """(m,) length of the move into each point (0 for the first)."""
+        return np.r_[0.0, np.linalg.norm(np.diff(self.tip, axis=0), axis=1)]
+
+    def lengths(self) -> dict[str, float]:
+        """Cutting (feed), plunge and rapid lengths, mm."""
+        seg = self.segment_lengths()
+        cut = ~self.rapid & ~self.plunge
+        return {"cutting": float(seg[cut].sum()), "plunge": float(seg[self.plunge].sum()),
+                "rapid": float(seg[self.rapid].sum())}
+
+    def time_minutes(self, rapid_rate: float) -> float:
+        """Machining time at the programmed feeds and the machine's rapid rate (mm/min)."""
+        ln = self.lengths()
+        return ln["cutting"] / self.feed + ln["plunge"] / self.plunge_feed + ln["rapid"] / rapid_rate
+
+    @classmethod
+    def from_passes(cls, name: str, tool: Tool, tip, axis, pass_index, *, feed: float,
+                    plunge_feed: float | None = None, clearance: float = 10.0, comments=None) -> "Toolpath":
+        """A finishing toolpath from passes in machining order: a rapid to ``clearance`` above
+        the first point along its axis, the plunge to it, the passes linked by cutting moves,
+        and a rapid retract of ``clearance`` along the last axis."""
+        tip, axis, pass_index = np.asarray(tip, float), np.asarray(axis, float), np.asarray(pass_index, int)
+        if tip.ndim != 2 or tip.shape[1] != 3 or axis.shape != tip.shape or len(pass_index) != len(tip):
+            raise ValueError("tip and axis must be (m, 3) and pass_index (m,)")
+        if len(tip) == 0:
+            raise ValueError("an empty toolpath has no NC program")
+        m = len(tip)
+        pts = np.vstack([tip[:1] + clearance * axis[:1], tip, tip[-1:] + clearance * axis[-1:]])
+        ax = np.vstack([axis[:1], axis, axis[-1:]])
+        rapid = np.r_[True, np.zeros(m, bool), True]
+        plunge = np.r_[False, True, np.zeros(m, bool)]
+        return cls(name, tool, pts, ax, rapid, plunge, np.r_[-1, pass_index, -1], feed,
+                   0.5 * feed if plunge_feed is None else plunge_feed, comments=list(comments or []))
+
+
+def drop_collinear(points: np.ndarray, tol: float) -> np.ndarray:
+    """Mask (n,) of the points of a polyline to keep so that every dropped point lies within
+    ``tol`` of the chord between the kept points around it (greedy, ends kept)."""
+    points = np.asarray(points, float)
+    n = len(points)
+    keep = np.zeros(n, bool)
+    if n == 0:
+        return keep
+    keep[[0, -1]] = True
+    a = 0
+    while a < n - 1:
+        b = a + 2
+        while b < n:
+            chord = points[b] - points[a]
+            w = points[a + 1:b] - points[a]
+            ln = np.linalg.norm(chord)
+            if ln == 0:
+                break
+            dist = np.linalg.norm(np.cross(w, chord / ln), axis=1)
+            if dist.max() > tol:
+                break
+            b += 1
+        a = b - 1
+        keep[a] = True
+    return keep
