@@ -1,16 +1,20 @@
 """The virus-evolutionary GA (VEGA) of Fountas et al., after Kubota et al. (1996).
 
 Hosts evolve as in :class:`~evoplan.algorithms.ga.GA`; a population of viruses (substrings of
-hosts) infects them every generation. The rules of ``docs/vega.md``, each a named method:
+hosts) infects them every ``infect_every`` generations. Each rule is a named method and a
+setting of ``virus``:
 
 1. **Creation** (:meth:`create_viruses`, Fountas "targeted and random"): a share
    ``creation.elite_share`` of new viruses is transduced from the elite hosts (the best
    ``creation.elite_pool`` of the population), the rest from hosts drawn uniformly among the
    others. Kubota's purely random creation is ``elite_share: 0``.
 2. **Infection** (:meth:`infections`, Kubota): virus ``i`` infects each host with probability
-   ``rate_i`` (reverse transcription, Fig. 3b). All infections of a generation are made on the
-   hosts as they were after the GA step and evaluated in one batch; every one of those
-   evaluations counts in the budget.
+   ``rate_i`` (reverse transcription, Fig. 3b), every ``infect_every`` generations (Fountas:
+   "in every several generations"; default 1, every generation). All infections of a
+   generation are made on the hosts as they were after the GA step. An infection whose virus
+   carries the host's own bits leaves the host unchanged: its gain is 0 without evaluating
+   it, and it is not asked for (:meth:`begin_infection`). The others are evaluated in one
+   batch and count in the budget.
 3. **Replacement** (:meth:`replace_hosts`, a choice the papers leave open): each infected host
    takes its best infected version, either only if it is better (``replacement: improve``,
    the default: elitist, no host is made worse) or always (``always``, Kubota's vertical
@@ -19,15 +23,29 @@ hosts) infects them every generation. The rules of ``docs/vega.md``, each a name
    objective to minimize, so a gain is positive), summed over the hosts each virus infected.
 5. **Life / infectivity force** (:meth:`update_viruses`): Kubota's
    ``life_i(t+1) = r * life_i(t) + fitvirus_i``, with the life reduction rate ``r`` being
-   Fountas' infectivity force parameter (Table 1: 0.001 ... 1.0). Fountas' rule on the force:
-   if ``life`` fell since the previous generation, or (Kubota) turned negative, the virus is
-   replaced by a fresh transduction; if it rose, the virus does a partial transduction
-   (Fig. 3c) from the infected host it improved most, so its length grows, up to
-   ``max_length`` (``VrsLgth``).
+   Fountas' infectivity force parameter (Table 1: 0.001 ... 1.0). What follows is
+   ``life_rule``:
+
+   - ``fountas`` (default): if ``life`` fell since the previous generation, or turned
+     negative, the virus is replaced by a fresh transduction; if it rose, the virus does a
+     partial transduction (Fig. 3c) from the infected host it improved most;
+   - ``kubota``: a virus whose life is negative is replaced; every other virus that infected
+     a host this generation does a partial transduction (from the infected host it improved
+     most, or harmed least).
+
+   A partial transduction adds ``growth`` loci, up to ``max_length`` (``VrsLgth``); a virus
+   at the cap slides its window instead. Under ``fountas`` at ``r = 0.001`` a virus rarely
+   rises twice in a row, so the cap rarely binds; ``kubota`` lets a virus that does no harm
+   grow every generation it infects.
 6. **Infection rate** (Kubota's self-adaptation, Fountas' bounds): ``rate_i *= 1 + step``
    after a gain, ``1 - step`` after a loss, clipped to ``[min_infection_rate,
    max_infection_rate]`` with ``0 <= min <= 0.5 <= max <= 1``; a new virus starts at
-   ``infection_rate``.
+   ``infection_rate``, a renewed one too unless ``renewal_keeps_rate`` (then the adapted
+   rate of the virus it replaces carries over).
+
+Counters (plain integers and arrays): ``infections_made``, ``infections_unchanged`` (the
+host-copy infections not evaluated), ``age`` of each virus in generations and ``longest``,
+the longest virus there has been.
 """
 
 from __future__ import annotations
@@ -61,6 +79,11 @@ class VirusConfig(_Strict):
     max_infection_rate: float = Field(1.0, ge=0.5, le=1)
     rate_step: float = Field(0.1, ge=0, lt=1, description="Kubota's adaptation step a")
     replacement: Literal["improve", "always"] = "improve"
+    life_rule: Literal["fountas", "kubota"] = Field(
+        "fountas", description="fountas: renew when life falls, grow when it rises; kubota: renew when "
+        "life < 0, else grow")
+    renewal_keeps_rate: bool = Field(False, description="a renewed virus keeps the adapted infection rate")
+    infect_every: int = Field(1, ge=1, description="infect every g generations")
     creation: CreationConfig = CreationConfig()
 
     @model_validator(mode="after")
@@ -96,8 +119,14 @@ class VEGA(GA):
         self.bits = np.zeros((v.count, n_bits), dtype=bool)
         self.life = np.zeros(v.count)
         self.rate = np.full(v.count, v.infection_rate)
+        self.age = np.zeros(v.count, dtype=np.int64)
+        self.longest = 0
+        self.infections_made = 0
+        self.infections_unchanged = 0
         self.phase = "hosts"
         self._pairs: tuple[np.ndarray, np.ndarray] | None = None
+        self._trials = np.zeros((0, n_bits), dtype=bool)
+        self._changed = np.zeros(0, dtype=bool)
 
     # -- rule 1: creation --------------------------------------------------------------------
     def source_hosts(self, count: int, exact: bool) -> np.ndarray:
@@ -118,15 +147,19 @@ class VEGA(GA):
                         pool + self.rng.integers(0, max(N - pool, 1), count))
         return order[np.minimum(rank, N - 1)]
 
-    def create_viruses(self, which: np.ndarray, exact: bool = False) -> None:
-        """Fresh transduction (Fig. 3a) for the viruses ``which``; they start with life 0."""
+    def create_viruses(self, which: np.ndarray, exact: bool = False, renewal: bool = False) -> None:
+        """Fresh transduction (Fig. 3a) for the viruses ``which``; they start with life 0 and age 0,
+        and at ``infection_rate`` unless this is a renewal under ``renewal_keeps_rate``."""
         if which.size == 0:
             return
         hosts = self.G[self.source_hosts(which.size, exact)]
         s, n, b = viral.transduction(hosts, min(self.vc.fresh_length, self.vc.max_length), self.rng)
         self.start[which], self.length[which], self.bits[which] = s, n, b
         self.life[which] = 0.0
-        self.rate[which] = self.vc.infection_rate
+        self.age[which] = 0
+        if not (renewal and self.vc.renewal_keeps_rate):
+            self.rate[which] = self.vc.infection_rate
+        self.longest = max(self.longest, int(n.max()))
 
     # -- rule 2: infection -----------------------------------------------------------------------
     def infections(self) -> tuple[np.ndarray, np.ndarray]:
@@ -164,8 +197,13 @@ class VEGA(GA):
         self.rate = viral.adapt_infection_rate(
             self.rate, fitvirus, self.vc.rate_step, self.vc.min_infection_rate, self.vc.max_infection_rate
         )
-        renew = (self.life < 0) | (self.life < old_life)
-        grow = self.life > old_life  # implies life >= 0 and a gain this generation
+        infected = (trial >= 0).any(axis=1)
+        if self.vc.life_rule == "kubota":
+            renew = self.life < 0
+            grow = ~renew & infected
+        else:
+            renew = (self.life < 0) | (self.life < old_life)
+            grow = (self.life > old_life) & infected  # life rose: a gain this generation
         if grow.any():
             # the infected host (its infected version) each growing virus improved most
             best_host = np.where(trial >= 0, gain, -np.inf).argmax(axis=1)
@@ -176,48 +214,76 @@ class VEGA(GA):
                 self.vc.max_length, self.rng, self.vc.growth,
             )
             self.start[idx], self.length[idx], self.bits[idx] = s, n, b
-        if renew.any():
-            self.create_viruses(np.flatnonzero(renew))
+            self.longest = max(self.longest, int(n.max()))
+        self.create_viruses(np.flatnonzero(renew), renewal=True)
+
+    # -- ask / tell ------------------------------------------------------------------------------
+    def begin_infection(self, virus: np.ndarray, host: np.ndarray) -> bool:
+        """Make the infected hosts of the ``(virus, host)`` pairs; True if some must be evaluated.
+
+        A trial equal to its host (the virus carries the host's own bits) is not asked for: its
+        value is the host's and its gain 0. With none left, the generation ends here.
+        """
+        self._pairs = (virus, host)
+        self._trials = viral.infect(self.G, host, virus, self.start, self.length, self.bits)
+        self._changed = (self._trials != self.G[host]).any(axis=1)
+        self.infections_made += int(virus.size)
+        self.infections_unchanged += int(virus.size - self._changed.sum())
+        if self._changed.any():
+            self.phase = "infection"
+            return False
+        self.end_infection(np.zeros(0))
+        return True
+
+    def end_infection(self, f_changed: np.ndarray) -> None:
+        """Rules 3-6 with the values of the changed trials (the others are their hosts')."""
+        virus, host = self._pairs
+        trials = self._trials
+        f = self.f[host].copy()
+        f[self._changed] = f_changed
+        shape = (self.vc.count, self.f.size)
+        trial = np.full(shape, -1)
+        trial[virus, host] = np.arange(virus.size)
+        F = np.full(shape, np.inf)
+        F[virus, host] = f
+        pair_gain = np.where(self._changed, viral.infection_gain(self.f[host], f), 0.0)  # Eq. 11
+        gain = np.zeros(shape)
+        gain[virus, host] = pair_gain
+        self.replace_hosts(trial, F, trials)
+        self.update_viruses(viral.virus_fitness(pair_gain, virus, self.vc.count), trial, gain, trials)
+        self._pairs, self.phase = None, "hosts"
+        self._trials, self._changed = trials[:0], self._changed[:0]
+        self.end_generation()
+
+    def end_generation(self) -> None:
+        self.age += 1
+        self.generation += 1
 
     # -- ask / tell ------------------------------------------------------------------------------
     def ask(self) -> np.ndarray:
         if self.phase == "hosts":
             return super().ask()
-        virus, host = self._pairs
-        self._batch = viral.infect(self.G, host, virus, self.start, self.length, self.bits)
-        return self._batch
+        return self._trials[self._changed]
 
     def hosts_evaluated(self) -> bool:
         if self.generation < 0:  # initial population: create the viruses (rule 1)
             self.create_viruses(np.arange(self.vc.count), exact=True)
             self.generation += 1
             return True
+        if (self.generation + 1) % self.vc.infect_every:  # not an infection generation
+            self.end_generation()
+            return True
         virus, host = self.infections()
         if virus.size == 0:
             none = np.full((self.vc.count, self.f.size), -1)
             self.update_viruses(np.zeros(self.vc.count), none, np.zeros(none.shape),
                                 np.zeros((0, self.n_bits), bool))
-            self.generation += 1
+            self.end_generation()
             return True
-        self._pairs, self.phase = (virus, host), "infection"
-        return False
+        return self.begin_infection(virus, host)
 
     def tell(self, f: np.ndarray) -> bool:
         if self.phase == "hosts":
             return super().tell(f)
-        f = np.asarray(f, dtype=float)
-        virus, host = self._pairs
-        trials = self._batch
-        shape = (self.vc.count, self.f.size)
-        trial = np.full(shape, -1)
-        trial[virus, host] = np.arange(virus.size)
-        F = np.full(shape, np.inf)
-        F[virus, host] = f
-        pair_gain = viral.infection_gain(self.f[host], f)  # Eq. 11, before the hosts are replaced
-        gain = np.zeros(shape)
-        gain[virus, host] = pair_gain
-        self.replace_hosts(trial, F, trials)
-        self.update_viruses(viral.virus_fitness(pair_gain, virus, self.vc.count), trial, gain, trials)
-        self._pairs, self._batch, self.phase = None, None, "hosts"
-        self.generation += 1
+        self.end_infection(np.asarray(f, dtype=float))
         return True

@@ -23,12 +23,12 @@ def test_virus_fitness_equals_sum_of_host_improvements_through_tell():
     algo.bits[:] = False
     algo.bits[0, :2] = True
     algo.life[:] = [1.0, 1.0]
-    # virus 0 infects hosts 0 and 1, virus 1 infects host 2
-    algo._pairs = (np.array([0, 0, 1]), np.array([0, 1, 2]))
-    algo.phase = "infection"
+    # virus 0 infects hosts 0 and 1, virus 1 infects host 2 with host 2's own bits (unchanged)
+    assert not algo.begin_infection(np.array([0, 0, 1]), np.array([0, 1, 2]))
     trials = algo.ask()
-    assert trials[:2, :2].all() and not trials[:2, 2:].any() and not trials[2].any()
-    assert algo.tell(np.array([3.0, 4.5, 3.0]))  # gains: +2, -0.5 ; 0
+    assert trials.shape == (2, 8)  # the unchanged infection is not asked for
+    assert trials[:, :2].all() and not trials[:, 2:].any()
+    assert algo.tell(np.array([3.0, 4.5]))  # gains: +2, -0.5 ; 0
     # Eq. 12: fitvirus_0 = 2 - 0.5 = 1.5 ; life_0 = 0.5 * 1 + 1.5 = 2.0 (rose: partial transduction)
     assert algo.life[0] == pytest.approx(2.0)
     assert algo.length[0] == 3  # grew by one locus
@@ -45,8 +45,7 @@ def test_replacement_always_takes_the_infected_host_even_if_worse():
     algo.start[:] = [0, 0]
     algo.length[:] = [8, 8]
     algo.bits[:] = True
-    algo._pairs = (np.array([0, 1]), np.array([1, 1]))
-    algo.phase = "infection"
+    algo.begin_infection(np.array([0, 1]), np.array([1, 1]))
     algo.ask()
     algo.tell(np.array([9.0, 7.0]))
     assert algo.f[1] == 7.0  # the better of its two infections, although worse than 4.0
@@ -59,8 +58,7 @@ def test_negative_life_kills_the_virus():
     algo.start[:] = [0, 0]
     algo.length[:] = [8, 8]
     algo.bits[:] = True
-    algo._pairs = (np.array([0]), np.array([3]))
-    algo.phase = "infection"
+    algo.begin_infection(np.array([0]), np.array([3]))
     algo.ask()
     algo.tell(np.array([10.0]))  # gain 2 - 10 = -8: life 0.1 - 8 < 0
     assert algo.life[0] == 0.0 and algo.rate[0] == pytest.approx(0.7)  # replaced by a fresh one
