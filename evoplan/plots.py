@@ -1,41 +1,80 @@
-"""Figures of a run (matplotlib, no display needed)."""
+"""Figures of a run (matplotlib, no display needed), in the style of :mod:`evoplan.figure_style`."""
 
 from __future__ import annotations
 
-import io
+import numpy as np
+import pandas as pd
+from matplotlib.ticker import MaxNLocator
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-import pandas as pd  # noqa: E402
+from .figure_style import PALETTE, label, legend_outside, plain_numbers, png, figure
 
 
-def convergence_png(history: pd.DataFrame, title: str) -> bytes:
-    """Best-so-far and population mean against evaluations, as PNG bytes.
+def convergence_figure(history: pd.DataFrame, title: str):
+    """Best-so-far and population mean against evaluations; a top axis of generations.
 
-    The y axis is logarithmic when every plotted value is positive (distance to a zero optimum).
+    The top axis is a twin of the evaluation axis with the same limits: the tick of generation
+    ``g`` sits at the evaluation count at which generation ``g`` ended (its ``history.csv`` row).
+    The y axis is logarithmic when every plotted value is positive.
     """
-    fig, ax = plt.subplots(figsize=(7, 4.2), dpi=120)
-    ax.plot(history["evaluations"], history["best"], lw=2, label="best so far")
-    ax.plot(history["evaluations"], history["mean"], lw=1, alpha=0.7, label="population mean")
-    values = history[["best", "mean"]].to_numpy()
+    fig, (ax,) = figure(1, width=7.0, height=4.2)
+    ev = history["evaluations"].to_numpy(dtype=float)
+    ax.plot(ev, history["best"], lw=2, color=PALETTE[4], label="best so far")
+    ax.plot(ev, history["mean"], lw=1, color=PALETTE[0], alpha=0.8, label="population mean")
+    values = history[["best", "mean"]].to_numpy(dtype=float)
     finite = values[np.isfinite(values)]
     if finite.size and (finite > 0).all():
         ax.set_yscale("log")
+        plain_numbers(ax, "y")
     ax.set_xlabel("evaluations")
     ax.set_ylabel("objective (minimized)")
     ax.set_title(title)
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend()
-    top = ax.secondary_xaxis("top")
+    legend_outside(ax)
+    generation_axis(ax, history)
+    return fig
+
+
+def generation_axis(ax, history: pd.DataFrame):
+    """A top axis whose ticks mark where generations ended, at their evaluation counts."""
+    ax.set_xlim(ax.get_xlim())  # frozen: both axes share these limits from now on
+    top = ax.twiny()
+    top.set_xlim(ax.get_xlim())
+    gens = history["generation"].to_numpy(dtype=int)
+    ev = history["evaluations"].to_numpy(dtype=float)
+    if len(gens):
+        wanted = MaxNLocator(nbins=8, integer=True).tick_values(gens.min(), gens.max())
+        at = np.isin(gens, np.rint(wanted).astype(int))
+        top.set_xticks(ev[at], labels=[str(g) for g in gens[at]])
     top.set_xlabel("generation")
-    gens, evals = history["generation"].to_numpy(), history["evaluations"].to_numpy()
-    if len(gens) > 1:
-        top.set_functions((lambda e: np.interp(e, evals, gens), lambda g: np.interp(g, gens, evals)))
-    fig.tight_layout()
-    buf = io.BytesIO()
-    fig.savefig(buf, format="png")
-    plt.close(fig)
-    return buf.getvalue()
+    return top
+
+
+def convergence_png(history: pd.DataFrame, title: str) -> bytes:
+    """:func:`convergence_figure` as PNG bytes."""
+    return png(convergence_figure(history, title))
+
+
+def pareto_png(front: pd.DataFrame, names: list[str], weights: dict[str, float], title: str) -> bytes:
+    """The non-dominated points of a two-objective run, with the Eq. 9 choice marked.
+
+    Axes show the raw criteria with their units when ``front`` has them (the toolpath
+    problem's ``machining_error`` in mm, ``machining_time`` in min), else the objective values
+    the problem returns. With more than two objectives the first two are drawn.
+    """
+    fig, (ax,) = figure(1, width=6.2, height=4.4)
+    cols = [n if n in front else f"F_{n}" for n in names[:2]]
+    front = front.sort_values(cols[0])
+    x, y = front[cols[0]].to_numpy(float), front[cols[1]].to_numpy(float)
+    ax.plot(x, y, ls="-", lw=0.8, color="0.6", zorder=1)
+    ax.plot(x, y, ls="none", marker="o", ms=5, color=PALETTE[4], label=f"non-dominated ({len(front)})", zorder=2)
+    chosen = front["weighted_choice"].to_numpy(bool)
+    w = ", ".join(f"{weights[n]:g} {n.replace('_', ' ')}" for n in names)
+    ax.plot(x[chosen], y[chosen], ls="none", marker="*", ms=15, color=PALETTE[5], zorder=3,
+            label=f"lowest Eq. 9 weighted sum\n({w}, normalized)")
+    for axis, col in zip("xy", cols):
+        name = col.removeprefix("F_")
+        text = label(name) if col in front and not col.startswith("F_") else f"{name.replace('_', ' ')} (normalized)"
+        (ax.set_xlabel if axis == "x" else ax.set_ylabel)(text)
+        plain_numbers(ax, axis)
+    ax.set_title(title)
+    legend_outside(ax)
+    return png(fig)

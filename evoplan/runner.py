@@ -26,6 +26,7 @@ from .config import REGISTRY, RunConfig, load_config, read_yaml
 from .engine import HISTORY_COLUMNS, Checkpointer, RunState, Termination, run, write_atomic
 from .errors import ConfigError
 from .evaluation import Evaluator
+from .multiobjective import add_hypervolume, connect, evaluator_for, write_front
 from .parallel import ParallelEvaluator, open_pool
 from .problem_factory import build_space, make_problem
 from .space import Space
@@ -55,22 +56,27 @@ class Prepared:
     def new_state(self) -> RunState:
         algo_cls, _ = REGISTRY[self.config.algorithm.name]
         rng = np.random.default_rng(self.config.seed)
-        algorithm = algo_cls(self.config.algorithm, self.search.n_bits, rng)
+        extra = {"n_obj": self.evaluator.problem.n_obj} if getattr(algo_cls, "multi_objective", False) else {}
+        algorithm = algo_cls(self.config.algorithm, self.search.n_bits, rng, **extra)
         cache = EvaluationCache.from_config(self.config.cache)
         return RunState(algorithm=algorithm, rng=rng, fingerprint=self.fingerprint, cache=cache)
 
 
-def prepare(config: RunConfig, source: str = "<config>") -> Prepared:
-    """Build problem, space and evaluator; any bad setting is a one-line ``ConfigError``."""
+def prepare(config: RunConfig, source: str = "<config>", problem=None) -> Prepared:
+    """Build problem, space and evaluator; any bad setting is a one-line ``ConfigError``.
+
+    ``problem``: a pymoo problem object to use instead of building ``config.problem.name``
+    (the Python API passes the user's problem this way)."""
     p = config.problem
-    try:
-        base_dir = str(Path(source).resolve().parent) if Path(source).is_file() else None
-        problem = make_problem(p.name, p.params, base_dir)
-    except ValueError as e:
-        raise ConfigError(f"{source}: problem: {e}") from None
+    if problem is None:
+        try:
+            base_dir = str(Path(source).resolve().parent) if Path(source).is_file() else None
+            problem = make_problem(p.name, p.params, base_dir)
+        except ValueError as e:
+            raise ConfigError(f"{source}: problem: {e}") from None
     try:
         space = build_space(problem, p.bits, p.gray, p.variables)
-        evaluator = Evaluator(problem, p.constraint_penalty)
+        evaluator = evaluator_for(problem, config, source)
     except ValueError as e:
         raise ConfigError(f"{source}: problem.{e}") from None
     t = config.termination
@@ -120,6 +126,7 @@ def execute(prepared: Prepared, out: Path, resume: bool = False, progress: bool 
     if state is None:
         start_folder(prepared, out)
         state = prepared.new_state()
+    connect(prepared.evaluator, state.algorithm, prepared.search.decode)
     checkpointer = Checkpointer(out / CHECKPOINT, cfg.checkpoint.every_generations, cfg.checkpoint.every_seconds)
     e = cfg.evaluation
     pool = open_pool(e.backend, e.workers, e.scheduler) if e.backend != "serial" else None
@@ -157,7 +164,7 @@ class _progress_bar:
 
 
 def history_frame(state: RunState) -> pd.DataFrame:
-    return pd.DataFrame(state.history, columns=list(HISTORY_COLUMNS))
+    return add_hypervolume(pd.DataFrame(state.history, columns=list(HISTORY_COLUMNS)), state.algorithm)
 
 
 def best_record(prepared: Prepared, state: RunState) -> dict:
@@ -195,6 +202,7 @@ def write_results(prepared: Prepared, state: RunState, out: Path) -> None:
         title = f"{prepared.config.name}: {prepared.config.algorithm.name} on {prepared.config.problem.name}"
         write_atomic(out / "convergence.png", convergence_png(history, title))
     write_artifacts(prepared, state, out)
+    write_front(prepared, state.algorithm, out)
 
 
 def write_artifacts(prepared: Prepared, state: RunState, out: Path) -> None:

@@ -8,6 +8,7 @@ looks an algorithm up in ``{**ALGORITHMS, **ADAPTERS}``.
 from .base import UnitCube, search_space
 from .deap_easimple import DeapEaSimple, DeapEaSimpleConfig
 from .pymoo_algorithms import PymooAdapter, PymooCMAESConfig, PymooDEConfig, PymooGAConfig, PymooPSOConfig
+from .pymoo_multi import NSGA2Config, NSGA3Config, PymooMultiAdapter, SMSEMOAConfig
 
 ADAPTERS = {
     "pymoo_ga": (PymooAdapter, PymooGAConfig),
@@ -15,6 +16,10 @@ ADAPTERS = {
     "pymoo_cmaes": (PymooAdapter, PymooCMAESConfig),
     "pymoo_pso": (PymooAdapter, PymooPSOConfig),
     "deap_easimple": (DeapEaSimple, DeapEaSimpleConfig),
+    # several objectives (evoplan.multiobjective): evoplan run only
+    "nsga2": (PymooMultiAdapter, NSGA2Config),
+    "nsga3": (PymooMultiAdapter, NSGA3Config),
+    "sms_emoa": (PymooMultiAdapter, SMSEMOAConfig),
 }
 
 __all__ = ["ADAPTERS", "UnitCube", "search_space"]

@@ -30,14 +30,14 @@ from .base import AdapterConfig, child_seed
 class _Told(Problem):
     """A pymoo problem that returns the values the engine computed for the rows asked for."""
 
-    def __init__(self, n_var: int, binary: bool) -> None:
-        super().__init__(n_var=n_var, n_obj=1, xl=0.0, xu=1.0, vtype=bool if binary else float)
+    def __init__(self, n_var: int, binary: bool, n_obj: int = 1) -> None:
+        super().__init__(n_var=n_var, n_obj=n_obj, xl=0.0, xu=1.0, vtype=bool if binary else float)
         self.values: np.ndarray | None = None
 
     def _evaluate(self, X, out, *args, **kwargs):
         if self.values is None or len(self.values) != len(X):
             raise RuntimeError("pymoo evaluated rows the adapter did not ask for")
-        out["F"] = self.values[:, None]
+        out["F"] = self.values.reshape(len(X), self.n_obj)
 
 
 class PymooConfig(AdapterConfig):
@@ -82,14 +82,20 @@ class PymooPSOConfig(PymooConfig):
 def _ga(config: PymooGAConfig, seed: int):
     from pymoo.algorithms.soo.nonconvex.ga import GA
 
-    if config.representation == "binary":
-        from pymoo.operators.crossover.pntx import SinglePointCrossover
-        from pymoo.operators.mutation.bitflip import BitflipMutation
-        from pymoo.operators.sampling.rnd import BinaryRandomSampling
+    return GA(pop_size=config.pop_size, eliminate_duplicates=config.eliminate_duplicates, seed=seed,
+              **binary_operators(config))
 
-        return GA(pop_size=config.pop_size, sampling=BinaryRandomSampling(), crossover=SinglePointCrossover(),
-                  mutation=BitflipMutation(), eliminate_duplicates=config.eliminate_duplicates, seed=seed)
-    return GA(pop_size=config.pop_size, eliminate_duplicates=config.eliminate_duplicates, seed=seed)
+
+def binary_operators(config) -> dict:
+    """pymoo's binary sampling, single-point crossover and bit-flip mutation, for
+    ``representation: binary`` (none for real-coded search: pymoo's SBX and PM defaults)."""
+    if config.representation != "binary":
+        return {}
+    from pymoo.operators.crossover.pntx import SinglePointCrossover
+    from pymoo.operators.mutation.bitflip import BitflipMutation
+    from pymoo.operators.sampling.rnd import BinaryRandomSampling
+
+    return {"sampling": BinaryRandomSampling(), "crossover": SinglePointCrossover(), "mutation": BitflipMutation()}
 
 
 def _de(config: PymooDEConfig, seed: int):
@@ -121,21 +127,27 @@ class PymooAdapter(Algorithm):
     ``representation: binary``.
     """
 
+    n_obj = 1
+
     def __init__(self, config: PymooConfig, n_bits: int, rng: np.random.Generator) -> None:
         super().__init__(n_bits, rng)
         self.config = config
         self.name = config.name
-        self.problem = _Told(n_bits, config.representation == "binary")
+        self.problem = _Told(n_bits, config.representation == "binary", self.n_obj)
         self.restarts = 0
         self._start()
 
     def _start(self) -> None:
         """Set up a fresh pymoo algorithm (at the start, and after it stopped by itself)."""
-        self.inner = FACTORIES[self.config.name](self.config, child_seed(self.rng))
+        self.inner = self.build(child_seed(self.rng))
         self.inner.termination = NoTermination()  # the engine's Termination decides
         self.inner.setup(self.problem)
         self._pop = None
         self._todo = None
+
+    def build(self, seed: int):
+        """A fresh pymoo algorithm for this adapter's settings, seeded with ``seed``."""
+        return FACTORIES[self.config.name](self.config, seed)
 
     def ask(self) -> np.ndarray:
         while True:
@@ -153,14 +165,24 @@ class PymooAdapter(Algorithm):
                 return X.astype(bool) if self.config.representation == "binary" else X.astype(float)
             self.inner.tell(infills=pop)  # nothing to evaluate: let pymoo move on
 
+    def told_values(self, rows: np.ndarray, f: np.ndarray) -> np.ndarray:
+        """What pymoo is told for the search ``rows`` the engine scored ``f`` (here: ``f``)."""
+        return f
+
+    def population_values(self, pop) -> np.ndarray:
+        """The engine's values of a pymoo population (one objective: its F)."""
+        return pop.get("F")[:, 0].astype(float)
+
     def tell(self, f: np.ndarray) -> bool:
         pop, todo = self._pop, self._todo
-        self.problem.values = np.asarray(f, dtype=float)
+        f = np.asarray(f, dtype=float)
+        self.problem.values = self.told_values(pop.get("X")[todo], f)
         self.inner.evaluator.eval(self.problem, pop[todo], algorithm=self.inner)
         self.problem.values = None
+        pop[todo].set("scalar", f)  # the engine's value, kept with the individual
         self.inner.tell(infills=pop)
         current = self.inner.pop if self.inner.pop is not None and len(self.inner.pop) else pop
-        self.G, self.f = current.get("X"), current.get("F")[:, 0].astype(float)
+        self.G, self.f = current.get("X"), self.population_values(current)
         self._pop = self._todo = None
         self.generation += 1
         return True

@@ -4,43 +4,53 @@ and for one-factor-at-a-time studies the effect of each factor (Fountas Fig. 6 a
 Values are precisions ``f - f_ref`` (``f_ref``: the known optimum, else the best value any run
 found; see ``curves.reference_values``) on log axes, floored at ``FLOOR`` so that an exact hit
 stays on the plot. A panel is one problem and dimension (and one factor, in a factor study);
-a line or a box is one variant (an algorithm, or a factor's level).
+a line or a box is one variant (an algorithm, or a factor's level), with the same colour and
+marker in every panel (:mod:`evoplan.figure_style`), the legend outside the panels, and a
+caption saying what lines and bands are and how many values the floor holds.
 """
 
 from __future__ import annotations
 
-import io
 from typing import Callable
 
-import matplotlib
+import numpy as np
+import pandas as pd
+from matplotlib.ticker import NullFormatter
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-from matplotlib.ticker import NullFormatter  # noqa: E402
-import numpy as np  # noqa: E402
-import pandas as pd  # noqa: E402
-
-from .curves import DEFAULT_TARGETS, band, best_on_grid, ecdf, evaluation_grid, runtimes  # noqa: E402
+from ..figure_style import OBJECTIVE_UNITS, boxes, figure, figure_legend, mark_floor, plain_numbers, png, variant_style
+from .curves import DEFAULT_TARGETS, band, best_on_grid, ecdf, evaluation_grid, runtimes
 
 FLOOR = 1e-16
 History = Callable[[str], pd.DataFrame]
+BANDS = ("Lines: median over the runs of a variant; shaded bands: the interquartile range "
+         "(25th to 75th percentile) of the same runs.")
 
 
-def _axes(n: int, width: float = 4.2, height: float = 3.3):
-    cols = min(n, 4)
-    rows = -(-n // cols)
-    fig, axes = plt.subplots(rows, cols, figsize=(width * cols, height * rows), dpi=100, squeeze=False)
-    for ax in axes.flat[n:]:
-        ax.set_visible(False)
-    return fig, list(axes.flat[:n])
+def _axes(n: int):
+    return figure(n, width=4.2, height=3.3, cols=4)
 
 
-def _png(fig) -> bytes:
-    fig.tight_layout()
-    buf = io.BytesIO()
-    fig.savefig(buf, format="png")
-    plt.close(fig)
-    return buf.getvalue()
+def _png(fig, caption: str = "") -> bytes:
+    """PNG of a study figure: one legend for all panels (outside), and the caption below."""
+    figure_legend(fig)
+    if caption:
+        fig.text(0.01, -0.01, caption, ha="left", va="top", fontsize=7, wrap=True)
+    return png(fig)
+
+
+def _styles(runs: pd.DataFrame) -> dict[str, dict]:
+    """One style per variant name, the same in every panel of a figure."""
+    names = dict.fromkeys(_variant(a, f, lv) for a, f, lv in zip(runs["algorithm"], runs["factor"], runs["level"]))
+    return {name: variant_style(i) for i, name in enumerate(names)}
+
+
+def _ylabel(text: str, problem: str) -> str:
+    unit = OBJECTIVE_UNITS.get(problem)
+    return f"{text} ({unit})" if unit else text
+
+
+def _floor_note(clamped: int) -> str:
+    return f" {clamped} value(s) at or below {FLOOR:g} are drawn at {FLOOR:g} (dotted line)." if clamped else ""
 
 
 def _title(problem, dimension, factor="") -> str:
@@ -55,6 +65,12 @@ def _precision(values, f_ref: float) -> np.ndarray:
     return np.maximum(np.asarray(values, dtype=float) - f_ref, FLOOR)
 
 
+def _clamped(values, f_ref: float) -> int:
+    """How many finite values ``values - f_ref`` fall at or below the floor."""
+    d = np.asarray(values, dtype=float) - f_ref
+    return int((np.isfinite(d) & (d <= FLOOR)).sum())
+
+
 def panels(runs: pd.DataFrame):
     """``((problem, dimension, factor), rows)`` in the order of the grid."""
     return list(runs.groupby(["problem", "dimension", "factor"], sort=False))
@@ -63,41 +79,55 @@ def panels(runs: pd.DataFrame):
 def convergence(runs: pd.DataFrame, history: History, f_ref: pd.Series) -> bytes:
     """Median best-so-far precision against evaluations, with the quartile band, per variant."""
     groups = panels(runs)
+    styles = _styles(runs)
     fig, axes = _axes(len(groups))
+    clamped_all = 0
     for ax, ((problem, dim, factor), rows) in zip(axes, groups):
         ref = f_ref.loc[(problem, dim)]
         top = np.nanmax(rows["budget"].astype(float).fillna(rows["evaluations"].astype(float)).to_numpy())
         grid = evaluation_grid(top if np.isfinite(top) else 1)
+        clamped = 0
         for (algorithm, level), vrows in rows.groupby(["algorithm", "level"], sort=False):
             ok = vrows[vrows["status"] == "ok"]
             curves = np.array([best_on_grid(history(k), grid) for k in ok["key"]]).reshape(len(ok), grid.size)
+            clamped += _clamped(curves, ref)
             med, q1, q3 = band(_precision(curves, ref) if curves.size else curves)
-            line, = ax.plot(grid, med, lw=1.6, label=_variant(algorithm, factor, level))
-            ax.fill_between(grid, q1, q3, color=line.get_color(), alpha=0.15, lw=0)
-        ax.set(xscale="log", yscale="log", xlabel="evaluations", ylabel="f - f_ref (best so far)",
-               title=_title(problem, dim, factor))
+            style = styles[_variant(algorithm, factor, level)]
+            ax.plot(grid, med, lw=1.6, markevery=max(1, grid.size // 8), ms=4,
+                    label=_variant(algorithm, factor, level), **style)
+            ax.fill_between(grid, q1, q3, color=style["color"], alpha=0.15, lw=0)
+        mark_floor(ax, FLOOR, clamped)
+        clamped_all += clamped
+        ax.set(xscale="log", yscale="log", xlabel="evaluations",
+               ylabel=_ylabel("f - f_ref (best so far)", problem), title=_title(problem, dim, factor))
         ax.xaxis.set_minor_formatter(NullFormatter())
-        ax.grid(True, which="major", alpha=0.3)
-    axes[0].legend(fontsize=7)
-    return _png(fig)
+        if problem in OBJECTIVE_UNITS:
+            plain_numbers(ax, "y")
+    return _png(fig, BANDS + _floor_note(clamped_all))
 
 
 def final_boxes(runs: pd.DataFrame, f_ref: pd.Series) -> bytes:
-    """Box plots of the final (in-budget) precision of every variant, per panel."""
+    """Box plots of the final (in-budget) precision of every variant, per panel; the points too
+    when a box holds few."""
     groups = panels(runs)
     fig, axes = _axes(len(groups))
+    clamped_all = 0
     for ax, ((problem, dim, factor), rows) in zip(axes, groups):
         ref = f_ref.loc[(problem, dim)]
         data, names = [], []
         for (algorithm, level), vrows in rows.groupby(["algorithm", "level"], sort=False):
-            values = vrows.loc[vrows["status"] == "ok", "final_best"].astype(float)
-            data.append(_precision(values.dropna(), ref))
+            values = vrows.loc[vrows["status"] == "ok", "final_best"].astype(float).dropna()
+            clamped_all += _clamped(values, ref)
+            data.append(_precision(values, ref))
             names.append(level if factor else algorithm)
-        ax.boxplot(data, tick_labels=names, showfliers=True)
-        ax.set(yscale="log", ylabel="final f - f_ref", title=_title(problem, dim, factor))
+        boxes(ax, data, names)
+        ax.set(yscale="log", ylabel=_ylabel("final f - f_ref", problem), title=_title(problem, dim, factor))
         ax.tick_params(axis="x", labelrotation=45, labelsize=7)
-        ax.grid(True, axis="y", alpha=0.3)
-    return _png(fig)
+        if problem in OBJECTIVE_UNITS:
+            plain_numbers(ax, "y")
+    note = ("Boxes: quartiles and median; whiskers: 1.5 x IQR; dots: every run when a box holds "
+            "30 or fewer." + _floor_note(clamped_all))
+    return _png(fig, note)
 
 
 def _runtime_table(runs: pd.DataFrame, history: History, f_ref: pd.Series, targets: np.ndarray) -> list:
@@ -123,9 +153,10 @@ def ecdf_figure(runs: pd.DataFrame, history: History, f_ref: pd.Series, targets=
     top = np.nanmax(runs["budget"].astype(float).fillna(runs["evaluations"].astype(float)) / runs["dimension"])
     variants = list(dict.fromkeys(v for *_, v, _ in table))
     grid = evaluation_grid(top, 200)
+    styles = {v: variant_style(i) for i, v in enumerate(variants)}
     for v in variants:
         times = np.array([t / d for p, d, f, vv, t in table if vv == v])
-        axes[0].step(grid, ecdf(times, grid), where="post", label=v)
+        axes[0].step(grid, ecdf(times, grid), where="post", label=v, markevery=20, ms=4, **styles[v])
     axes[0].set(title=f"all problems ({len(targets)} targets each)", xlabel="evaluations / dimension")
     for ax, (p, d) in zip(axes[1:], blocks):
         rows = [(vv, t) for pp, dd, f, vv, t in table if (pp, dd) == (p, d)]
@@ -133,13 +164,12 @@ def ecdf_figure(runs: pd.DataFrame, history: History, f_ref: pd.Series, targets=
         grid = evaluation_grid(top if np.isfinite(top) else 1, 200)
         for v in variants:
             times = np.array([t for vv, t in rows if vv == v])
-            ax.step(grid, ecdf(times, grid), where="post", label=v)
+            ax.step(grid, ecdf(times, grid), where="post", markevery=20, ms=4, **styles[v])
         ax.set(title=_title(p, d), xlabel="evaluations")
     for ax in axes:
         ax.set(xscale="log", ylim=(-0.02, 1.02), ylabel="share of (run, target) pairs solved")
-        ax.grid(True, alpha=0.3)
-    axes[0].legend(fontsize=7)
-    return _png(fig)
+    return _png(fig, f"Fixed-target ECDF: the share of (run, target) pairs reached within the evaluations, "
+                     f"{len(targets)} targets f_ref + 10^k per problem.")
 
 
 def factor_effects(runs: pd.DataFrame, f_ref: pd.Series) -> bytes:
@@ -152,12 +182,13 @@ def factor_effects(runs: pd.DataFrame, f_ref: pd.Series) -> bytes:
         ref = f_ref.loc[(problem, dim)]
         data = [_precision(frows.loc[(frows["level"] == lv) & (frows["status"] == "ok"), "final_best"].dropna(), ref)
                 for lv in levels]
-        ax.boxplot(data, tick_labels=levels, showfliers=False)
+        boxes(ax, data, levels)
         med = [np.median(d) if len(d) else np.nan for d in data]
-        ax.plot(range(1, len(levels) + 1), med, "o-", lw=1.5)
-        ax.set(yscale="log", xlabel=factor, ylabel="final f - f_ref", title=_title(problem, dim, factor))
-        ax.grid(True, axis="y", alpha=0.3)
-    return _png(fig)
+        ax.plot(range(1, len(levels) + 1), med, lw=1.5, label="median", **variant_style(0))
+        ax.set(yscale="log", xlabel=factor, ylabel=_ylabel("final f - f_ref", problem),
+               title=_title(problem, dim, factor))
+    return _png(fig, "Boxes: quartiles of the final values at each level; line: their medians; "
+                     "dots: every run when a box holds 30 or fewer.")
 
 
 def factor_generations(runs: pd.DataFrame, history: History, f_ref: pd.Series) -> bytes:
@@ -167,16 +198,16 @@ def factor_generations(runs: pd.DataFrame, history: History, f_ref: pd.Series) -
     fig, axes = _axes(len(groups))
     for ax, ((problem, dim, factor), frows) in zip(axes, groups):
         ref = f_ref.loc[(problem, dim)]
-        for level, lrows in frows.groupby("level", sort=False):
+        for i, (level, lrows) in enumerate(frows.groupby("level", sort=False)):
             frames = [history(k) for k in lrows["key"]]
             n = max((len(f) for f in frames), default=0)
             curves = np.full((len(frames), n), np.nan)
             for i, f in enumerate(frames):
                 curves[i, : len(f)] = f["best"].to_numpy(dtype=float)
             med, q1, q3 = band(_precision(curves, ref))
-            line, = ax.plot(np.arange(n), med, lw=1.6, label=f"{level}")
-            ax.fill_between(np.arange(n), q1, q3, color=line.get_color(), alpha=0.12, lw=0)
-        ax.set(yscale="log", xlabel="generation", ylabel="best so far, f - f_ref", title=_title(problem, dim, factor))
-        ax.grid(True, alpha=0.3)
-        ax.legend(fontsize=7, title=factor, title_fontsize=7)
-    return _png(fig)
+            style = variant_style(i)
+            ax.plot(np.arange(n), med, lw=1.6, label=f"{factor}={level}", markevery=max(1, n // 8), ms=4, **style)
+            ax.fill_between(np.arange(n), q1, q3, color=style["color"], alpha=0.12, lw=0)
+        ax.set(yscale="log", xlabel="generation", ylabel=_ylabel("best so far, f - f_ref", problem),
+               title=_title(problem, dim, factor))
+    return _png(fig, BANDS)

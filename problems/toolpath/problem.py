@@ -114,7 +114,7 @@ class ToolpathProblem(Problem):
             given.update(bounds_from_sample(self.simulator.criteria(design), missing))
         self.norm_bounds = {k: given[k] for k in names}
         super().__init__(n_var=5, n_obj=1 if objectives is None else len(objectives),
-                         xl=xl, xu=xu, vtype=float)
+                         xl=xl, xu=xu, vtype=float, vars=self.variables)
 
     # ---------------------------------------------------------------------------------
     @property
@@ -122,7 +122,12 @@ class ToolpathProblem(Problem):
         return len(self.tool_db)
 
     def check(self, X) -> np.ndarray:
-        """X as (n, 5) float; ValueError ``params.<name>: ...`` for a value out of range."""
+        """X as (n, 5) float; ValueError ``params.<name>: ...`` for a value out of range.
+        Rows may also be mappings name -> value (pymoo's mixed-variable form, ``vars``; the
+        tool given by its id)."""
+        if isinstance(X, dict) or (np.ndim(X) == 1 and len(X) and isinstance(X[0], dict)):
+            X = np.array([[self.tool_db.index_of(r["tool"])] + [r[k] for k in PARAM_NAMES[1:]]
+                          for r in ([X] if isinstance(X, dict) else X)], dtype=float)
         X = np.asarray(X, dtype=float)
         if X.size == 0:
             return X.reshape(0, 5)

@@ -79,7 +79,7 @@ class ZonedToolpathProblem(Problem):
         self._plans: dict = {}
         self._labels: dict = {}
         super().__init__(n_var=2, n_obj=1, xl=np.array([0.0, lo]),
-                         xu=np.array([len(ids) - 1.0, hi]), vtype=float)
+                         xu=np.array([len(ids) - 1.0, hi]), vtype=float, vars=self.variables)
 
     def cutter(self, tool_index: int) -> Cutter3Axis:
         t = self.tool_db.tools[int(tool_index)]
@@ -107,6 +107,9 @@ class ZonedToolpathProblem(Problem):
         return self._plans[key]
 
     def criteria(self, X) -> dict[str, np.ndarray]:
+        if isinstance(X, dict) or (np.ndim(X) == 1 and len(X) and isinstance(X[0], dict)):
+            X = [[self.tool_db.index_of(r["tool"]), r[self.gene]]  # pymoo mixed-variable rows
+                 for r in ([X] if isinstance(X, dict) else X)]
         X = np.atleast_2d(np.asarray(X, float))
         rows = [self.plan(int(round(x[0])), x[1]) for x in X]
         return {k: np.array([r[k] for r in rows]) for k in rows[0]}
