@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import os
 import sys
 
 from . import __version__
@@ -28,10 +29,16 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     try:
-        return args.func(args)
+        code = args.func(args)
+        sys.stdout.flush()  # a broken pipe shows here, not in Python's own flush at exit
+        return code
     except EvoplanError as e:
         print(f"evoplan: error: {e}", file=sys.stderr)
         return 2
+    except BrokenPipeError:  # the reader went away (``evoplan ... | head``): stop quietly
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())  # no second error when Python flushes stdout at exit
+        return 141  # 128 + SIGPIPE, as a shell tool killed by the broken pipe
     except KeyboardInterrupt:
         print("evoplan: interrupted (resume a run with --resume DIR, a study by running it again)", file=sys.stderr)
         return 130

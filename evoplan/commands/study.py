@@ -1,4 +1,5 @@
-"""``evoplan study STUDY [--out DIR] [--backend serial|processes|dask] [--workers N] [--scheduler ADDR]``."""
+"""``evoplan study STUDY [--out DIR] [--set KEY.PATH=VALUE ...] [--backend serial|processes|dask] [--workers N]
+[--scheduler ADDR]``."""
 
 from __future__ import annotations
 
@@ -7,6 +8,7 @@ import json
 from pathlib import Path
 
 from ..errors import EvoplanError
+from ..overrides import add_argument
 from ..parallel import POOLS
 
 
@@ -20,12 +22,15 @@ def add_parser(sub) -> argparse.ArgumentParser:
     p.add_argument("--workers", type=int, help="worker processes (default: one per CPU)")
     p.add_argument("--scheduler", metavar="ADDRESS", help="Dask scheduler, e.g. tcp://10.0.0.5:8786 "
                                                           "(default with --backend dask: a local cluster)")
+    add_argument(p)
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     return p
 
 
 def main(args: argparse.Namespace) -> int:
-    from ..study.config import load_study
+    from ..config import read_yaml
+    from ..overrides import apply_settings
+    from ..study.config import parse_study
     from ..study.runner import run_study
 
     backend = args.backend or ("dask" if args.scheduler else "serial")
@@ -33,7 +38,9 @@ def main(args: argparse.Namespace) -> int:
         raise EvoplanError(f"--scheduler is for --backend dask, not {backend}")
     if args.workers is not None and args.workers < 1:
         raise EvoplanError(f"--workers must be at least 1, got {args.workers}")
-    study = load_study(args.study)
+    data = apply_settings(read_yaml(args.study), args.settings, str(args.study))
+    data.setdefault("name", Path(args.study).stem)
+    study = parse_study(data, str(args.study))
     out = Path(args.out or Path("results") / study.name)
     summary = run_study(study, args.study, out, backend, args.workers, args.scheduler,
                         progress=False if args.quiet else None)

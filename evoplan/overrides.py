@@ -1,0 +1,46 @@
+"""``--set key.path=value``: settings of a run or study file changed on the command line.
+
+Each item sets one key of the file's mapping before validation, so a bad key or value is
+reported like one in the file: ``evoplan: error: FILE: key.path: message``. The value is read
+as YAML (``--set algorithm.population=30``, ``--set problem.params.weights='{a: 0.5, b: 0.5}'``);
+missing intermediate mappings are created.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import yaml
+
+from .errors import ConfigError
+
+
+def apply_settings(data: dict[str, Any], items: list[str], source: str) -> dict[str, Any]:
+    """``data`` with every ``key.path=value`` of ``items`` set (in order; a later one wins)."""
+    for item in items:
+        path, sep, text = item.partition("=")
+        keys = [k.strip() for k in path.split(".")]
+        if not sep or not all(keys):
+            raise ConfigError(f"--set {item!r}: expected KEY.PATH=VALUE, e.g. algorithm.population=30")
+        try:
+            value = yaml.safe_load(text) if text.strip() else ""
+        except yaml.YAMLError:
+            raise ConfigError(f"--set {item!r}: the value is not valid YAML") from None
+        node = data
+        for i, key in enumerate(keys[:-1]):
+            child = node.get(key)
+            if child is None:
+                child = node[key] = {}
+            elif not isinstance(child, dict):
+                where = ".".join(keys[: i + 1])
+                raise ConfigError(f"{source}: {where}: is {child!r}, not a mapping (from --set {item})")
+            node = child
+        node[keys[-1]] = value
+    return data
+
+
+def add_argument(parser) -> None:
+    """The ``--set`` option of ``run`` and ``study``."""
+    parser.add_argument("--set", dest="settings", action="append", default=[], metavar="KEY.PATH=VALUE",
+                        help="change a setting of the file, e.g. --set algorithm.population=30 "
+                             "--set termination.generations=100 (repeatable)")
