@@ -1,0 +1,155 @@
+"""``evoplan machine CONFIG --out DIR [--from-run RUN]``: the NC operation set for one surface.
+
+Roughing from a block (Abbas' morphing layers or z-level, flat end mill, zig-zag, checked on a
+stock Z-map), semi-finish (ball end on the exact normal offset, 3-axis) and finish (the
+evoplan toolpath problem's 5-axis plan, its parameters from the file or from a finished run's
+``best.json`` with ``--from-run``; or a 3-axis ball on the offset). Writes ``roughing.nc``,
+``semifinish.nc``, ``finish.nc`` in the post's dialect, the matching ``.apt`` files,
+``surface.dxf``, ``surface.stl``, ``toolpaths.dxf``, ``layers.png`` and ``summary.json``
+(layers, lengths, times, NC sizes). See ``runs/abbas_gentle.yaml``. Nothing is written unless
+every operation and every post succeeds.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import time
+from pathlib import Path
+from typing import Any, Literal
+
+from pydantic import Field, ValidationError
+
+from ..config import _Strict, format_validation_error, read_yaml
+from ..engine import write_atomic
+from ..errors import ConfigError, EvoplanError
+
+
+class ToolCfg(_Strict):
+    number: int = Field(1, ge=0)
+    diameter: float = Field(12.0, gt=0)
+    spindle: float = Field(6000.0, gt=0)
+
+
+class StockCfg(_Strict):
+    top: float | None = None          # absolute; default z_max + top_offset
+    top_offset: float = Field(5.0, ge=0)
+    cell: float = Field(0.5, gt=0)    # Z-map and layer grid, mm
+
+
+class AllowanceCfg(_Strict):
+    semifinish: float = Field(0.5, ge=0)   # D_off1
+    finish: float = Field(0.3, ge=0)       # D_off2
+
+
+class RoughCfg(_Strict):
+    method: Literal["morphing", "zlevel"] = "morphing"
+    tool: ToolCfg = Field(default_factory=lambda: ToolCfg(number=1, diameter=12.0, spindle=6000.0))
+    max_depth: float = 2.0             # D_cut, mm
+    stepover: float = Field(0.6, gt=0, le=1)   # fraction of the diameter
+    feed: float = Field(800.0, gt=0)
+    plunge_feed: float = Field(250.0, gt=0)
+    tolerance: float = Field(0.01, gt=0)
+
+
+class BallCfg(_Strict):
+    tool: ToolCfg = Field(default_factory=lambda: ToolCfg(number=2, diameter=12.0, spindle=8000.0))
+    stepover: float = Field(1.5, gt=0)  # mm between passes
+    step: float = Field(1.0, gt=0)      # mm between points
+    feed: float = Field(1000.0, gt=0)
+    plunge_feed: float = Field(300.0, gt=0)
+
+
+class PlanParams(_Strict):
+    tool: int = 8
+    stepover: float = 30.0
+    lead: float = 2.0
+    tilt: float = 0.0
+    step: float = 6.0
+
+
+class FinishCfg(BallCfg):
+    source: Literal["plan", "offset"] = "plan"
+    params: PlanParams = Field(default_factory=PlanParams)
+    problem: dict[str, Any] = Field(default_factory=dict)   # toolpath problem params (not surface)
+
+
+class RotaryCfg(_Strict):
+    name: str
+    about: Literal["x", "y", "z"]
+    limits: list[float] = Field(min_length=2, max_length=2)
+
+
+class KinematicsCfg(_Strict):
+    layout: Literal["table_table", "head_table"] = "table_table"
+    tilt: RotaryCfg = Field(default_factory=lambda: RotaryCfg(name="A", about="x", limits=[-30.0, 110.0]))
+    rotary: RotaryCfg = Field(default_factory=lambda: RotaryCfg(name="C", about="z", limits=[-360.0, 360.0]))
+    max_step: float = Field(10.0, gt=0)
+
+
+class PostCfg(_Strict):
+    dialect: str = "fanuc"
+    work_offset: str = Field("G54", pattern=r"^G5[4-9]$")
+    program_number: int = Field(1000, ge=1, le=9999)
+    rapid_rate: float = Field(10000.0, gt=0)
+    kinematics: KinematicsCfg = Field(default_factory=KinematicsCfg)
+
+
+class MachineConfig(_Strict):
+    name: str = "machine"
+    surface: Any = "choi"
+    stock: StockCfg = Field(default_factory=StockCfg)
+    allowances: AllowanceCfg = Field(default_factory=AllowanceCfg)
+    roughing: RoughCfg = Field(default_factory=RoughCfg)
+    semifinish: BallCfg = Field(default_factory=BallCfg)
+    finish: FinishCfg = Field(default_factory=lambda: FinishCfg(
+        tool=ToolCfg(number=3, diameter=12.0, spindle=10000.0), stepover=0.8, step=0.5, feed=1200.0))
+    post: PostCfg = Field(default_factory=PostCfg)
+
+
+def add_parser(sub) -> argparse.ArgumentParser:
+    p = sub.add_parser("machine", help="roughing, semi-finish and finish NC programs for one surface")
+    p.add_argument("config", help="YAML machining file (e.g. runs/abbas_gentle.yaml)")
+    p.add_argument("--out", help="results folder (default: results/<name>-<time>)")
+    p.add_argument("--from-run", dest="from_run", help="a finished toolpath run: finish with its best plan")
+    return p
+
+
+def load(path: str) -> MachineConfig:
+    data = read_yaml(path)
+    data.setdefault("name", Path(path).stem)
+    try:
+        return MachineConfig.model_validate(data)
+    except ValidationError as e:
+        raise ConfigError(format_validation_error(e, str(path))) from None
+
+
+def plan_from_run(run: Path) -> tuple[dict, dict]:
+    """(variables, toolpath problem params) of a finished run folder; ConfigError if unusable."""
+    try:
+        best = json.loads((run / "best.json").read_text())
+        params = read_yaml(run / "config.yaml").get("problem", {}).get("params", {}) or {}
+        variables = best["variables"]
+        return {k: variables[k] for k in ("tool", "stepover", "lead", "tilt", "step")}, dict(params)
+    except (OSError, ValueError, KeyError, TypeError, AttributeError) as e:
+        raise ConfigError(f"{run}: --from-run: not a finished toolpath run ({str(e).splitlines()[0]})") from None
+
+
+def main(args: argparse.Namespace) -> int:
+    from ..problems.toolpath.roughing.operation_set import build_operations
+
+    cfg = load(args.config)
+    out = Path(args.out or Path("results") / f"{cfg.name}-{time.strftime('%Y%m%d-%H%M%S')}")
+    if out.exists() and (not out.is_dir() or any(out.iterdir())):
+        raise EvoplanError(f"{out}: already exists and is not empty: choose another --out")
+    plan = plan_from_run(Path(args.from_run)) if args.from_run else None
+    try:
+        files, summary = build_operations(cfg.model_dump(), Path(args.config).resolve().parent, plan)
+    except ValueError as e:
+        raise ConfigError(f"{args.config}: {e}") from None
+    out.mkdir(parents=True, exist_ok=True)
+    for name, data in files.items():
+        write_atomic(out / name, data)
+    print(json.dumps({"out": str(out), **{op: {k: summary[op][k] for k in ("time_min", "nc_bytes")}
+                                          for op in ("roughing", "semifinish", "finish")}}))
+    return 0

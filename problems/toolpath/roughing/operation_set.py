@@ -1,0 +1,134 @@
+"""Every file of ``evoplan machine`` for one surface, built in memory from plain config data.
+
+``build_operations(cfg, base_dir, plan)`` returns ({file name: bytes}, summary); any bad value
+raises a one-line ValueError starting with its key path (``roughing.max_depth: ...``,
+``post.dialect: ...``, ``post.kinematics: finish: point 12: ...``, ``stock.top: ...``).
+"""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+
+from ..outputs.apt_write import apt_toolpath
+from ..outputs.exchange import surface_dxf, surface_stl, toolpaths_dxf
+from ..outputs.kinematics import Kinematics, ReachError, Rotary
+from ..outputs.posts import POSTS, Machine, PostError
+from ..outputs.toolpath import Tool
+from ..spec import parse_surface
+from .figures import layers_png
+from .operations import ball_on_offset, block_stock, finish_from_plan, roughing
+
+PLAN_KEYS = ("feed_rate", "tolerance", "feed_angle", "allowance", "tools")
+
+
+def _tool(c: dict) -> Tool:
+    return Tool(int(c["number"]), float(c["diameter"]), 0.0, float(c["spindle"]))
+
+
+def _kinematics(k: dict) -> Kinematics:
+    try:
+        return Kinematics(k["layout"], Rotary(k["tilt"]["name"], k["tilt"]["about"], tuple(k["tilt"]["limits"])),
+                          Rotary(k["rotary"]["name"], k["rotary"]["about"], tuple(k["rotary"]["limits"])),
+                          float(k["max_step"]))
+    except ValueError as e:
+        raise ValueError(f"post.kinematics: {e}") from None
+
+
+def _finish_plan(surface, cfg: dict, plan):
+    from ..simulator import ToolpathSimulator
+    from ..tools import parse_tools
+
+    fin = cfg["finish"]
+    if plan is not None:
+        variables, run_params = plan
+        run_surface = parse_surface(run_params.get("surface", "fountas"), "surface")
+        uv = np.linspace(0, 1, 7)
+        if not np.allclose(run_surface.points(uv, uv[::-1]), surface.points(uv, uv[::-1]), atol=1e-6):
+            raise ValueError("surface: the --from-run run optimized another surface")
+        params = {k: run_params[k] for k in PLAN_KEYS if k in run_params}
+    else:
+        variables, params = fin["params"], dict(fin["problem"])
+    unknown = set(params) - set(PLAN_KEYS)
+    if unknown:
+        raise ValueError(f"finish.problem.{sorted(unknown)[0]}: unknown (known: {', '.join(PLAN_KEYS)})")
+    tools = parse_tools(params.get("tools"), "finish.problem.tools")
+    sim = ToolpathSimulator(surface, tools, feed_angle=float(params.get("feed_angle", 0.0)),
+                            tolerance=float(params.get("tolerance", 0.01)),
+                            feed_rate=float(params.get("feed_rate", fin["feed"])),
+                            allowance=float(params.get("allowance", 0.5)))
+    try:
+        index = tools.index_of(variables["tool"])
+    except (KeyError, ValueError):
+        raise ValueError(f"finish.params.tool: no tool with id {variables['tool']!r}") from None
+    row = [float(variables[k]) for k in ("stepover", "lead", "tilt", "step")]
+    if row[0] <= 0 or row[3] <= 0:
+        raise ValueError("finish.params: stepover and step must be > 0")
+    return finish_from_plan(sim, index, row, int(fin["tool"]["number"]), float(fin["tool"]["spindle"]),
+                            plunge_feed=float(fin["plunge_feed"])), variables
+
+
+def build_operations(cfg: dict, base_dir=None, plan=None) -> tuple[dict[str, bytes], dict]:
+    """(files, summary) of the whole operation set (module docstring)."""
+    surface = parse_surface(cfg["surface"], "surface", base_dir)
+    post_cfg = cfg["post"]
+    if post_cfg["dialect"] not in POSTS:
+        raise ValueError(f"post.dialect: unknown post {post_cfg['dialect']!r} (known: {', '.join(sorted(POSTS))})")
+    post_cls = POSTS[post_cfg["dialect"]]
+    kin = _kinematics(post_cfg["kinematics"]) if post_cls.five_axis else None
+    post = post_cls(Machine(kin, post_cfg["work_offset"], post_cfg["program_number"]))
+    st, al, ro = cfg["stock"], cfg["allowances"], cfg["roughing"]
+    stock = block_stock(surface, st["cell"], st["top"], st["top_offset"])
+    rough_tool = _tool(ro["tool"])
+    rough, stats, (floor, layers) = roughing(
+        stock, ro["method"], rough_tool, d_cut=ro["max_depth"], stepover=ro["stepover"] * rough_tool.diameter,
+        allowance_semi=al["semifinish"], allowance_finish=al["finish"], feed=ro["feed"],
+        plunge_feed=ro["plunge_feed"], tolerance=ro["tolerance"])
+    se = cfg["semifinish"]
+    semi_tool = _tool(se["tool"])
+    semi_tool.corner_radius = 0.5 * semi_tool.diameter
+    semi, semi_folded = ball_on_offset(surface, semi_tool, allowance=al["finish"], stepover=se["stepover"],
+                                       step=se["step"], feed=se["feed"], plunge_feed=se["plunge_feed"],
+                                       name="semifinish")
+    fin = cfg["finish"]
+    finish_info = {"source": fin["source"]}
+    if fin["source"] == "plan":
+        finish, variables = _finish_plan(surface, cfg, plan)
+        finish_info["params"] = {k: variables[k] for k in ("tool", "stepover", "lead", "tilt", "step")}
+        finish_info["from_run"] = plan is not None
+    else:
+        fin_tool = _tool(fin["tool"])
+        fin_tool.corner_radius = 0.5 * fin_tool.diameter
+        finish, finish_info["folded_offset_points"] = ball_on_offset(
+            surface, fin_tool, allowance=0.0, stepover=fin["stepover"], step=fin["step"], feed=fin["feed"],
+            plunge_feed=fin["plunge_feed"], name="finish")
+    ops = {"roughing": rough, "semifinish": semi, "finish": finish}
+    files, summary = {}, {"name": cfg["name"], "post": post.name,
+                          "surface": {"z_min": stock.z_min, "z_max": stock.z_max},
+                          "stock": {"z_top": stock.z_top, "x": [float(stock.grid.xs[0]), float(stock.grid.xs[-1])],
+                                    "y": [float(stock.grid.ys[0]), float(stock.grid.ys[-1])], "cell": stock.grid.cell}}
+    for name, tp in ops.items():
+        try:
+            nc = post.program(tp, name).encode()
+        except ReachError as e:
+            raise ValueError(f"post.kinematics: {name}: {e}") from None
+        except PostError as e:
+            raise ValueError(f"post.dialect: {e}") from None
+        apt = apt_toolpath(tp, part=f"{cfg['name']} {name}").encode()
+        files[f"{name}.nc"], files[f"{name}.apt"] = nc, apt
+        summary[name] = {"tool": {"number": tp.tool.number, "label": tp.tool.label()}, "points": len(tp.tip),
+                         "lengths_mm": tp.lengths(), "time_min": tp.time_minutes(post_cfg["rapid_rate"]),
+                         "nc_bytes": len(nc), "nc_lines": nc.count(b"\n"), "apt_bytes": len(apt),
+                         "multi_axis": tp.multi_axis}
+    summary["roughing"].update(stats)
+    summary["semifinish"]["folded_offset_points"] = semi_folded
+    summary["finish"].update(finish_info)
+    files["surface.dxf"] = surface_dxf(surface)
+    files["surface.stl"] = surface_stl(surface)
+    files["toolpaths.dxf"] = toolpaths_dxf(ops)
+    files["layers.png"] = layers_png(stock, floor, layers, ro["method"],
+                                     f"{cfg['name']}: {ro['method']} roughing, {stats['n_layers']} layers, "
+                                     f"D_cut {ro['max_depth']:g} mm")
+    files["summary.json"] = json.dumps(summary, indent=2).encode()
+    return files, summary

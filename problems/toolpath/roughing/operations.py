@@ -1,0 +1,122 @@
+"""The operation set for one surface: roughing from a block, semi-finish, finish (Abbas' stages).
+
+- ``roughing``: Abbas' morphing layers or the z-level baseline (``layers.py``), cut by
+  zig-zag with a flat end mill (``zigzag.py``) and checked on a stock Z-map (``zmap.py``).
+- ``ball_on_offset``: 3-axis ball-end zig-zag along iso-parametric curves (passes at constant
+  v, points along u), the ball centre on the exact normal offset at R + allowance
+  (``offset.py``): semi-finish with allowance D_off2, finish with 0.
+- ``finish_from_plan``: the 5-axis finishing toolpath of the evoplan toolpath problem (the
+  simulator's CC pattern, tool tips and axes: the same path ``toolpath.apt`` holds).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..outputs.toolpath import Tool, Toolpath
+from .layers import Grid, floor_field, height_field, layer_count, morph_layers, z_levels
+from .offset import normal_offset
+from .zigzag import morph_path, zlevel_path
+from .zmap import StockZMap
+
+
+@dataclass
+class Stock:
+    """Block over the surface's XY box, top at ``z_top``; the surface's height field on ``grid``."""
+
+    grid: Grid
+    z_surface: np.ndarray
+    z_top: float
+
+    @property
+    def z_min(self) -> float:
+        return float(self.z_surface[np.isfinite(self.z_surface)].min())
+
+    @property
+    def z_max(self) -> float:
+        return float(self.z_surface.max())
+
+
+def block_stock(surface, cell: float, top: float | None = None, top_offset: float = 5.0) -> Stock:
+    """The block: XY box of the surface (sampled), top at ``top`` or z_max + ``top_offset``.
+    ValueError ``stock.top: ...`` if the top is below the surface."""
+    t = np.linspace(0, 1, 201)
+    u, v = np.meshgrid(t, t)
+    p = surface.points(u.ravel(), v.ravel())
+    grid = Grid.over(p[:, :2].min(axis=0), p[:, :2].max(axis=0), cell)
+    z = height_field(surface, grid)
+    z_max = float(z.max())
+    if top is not None and top < z_max:
+        raise ValueError(f"stock.top: {top:g} is below the surface (its highest point is z = {z_max:.3f})")
+    return Stock(grid, z, z_max + top_offset if top is None else float(top))
+
+
+def roughing(stock: Stock, method: str, tool: Tool, *, d_cut: float, stepover: float, allowance_semi: float,
+             allowance_finish: float, feed: float, plunge_feed: float, tolerance: float = 0.01,
+             clearance: float = 10.0):
+    """(toolpath, stats, layers): ``method`` 'morphing' or 'zlevel'; stats from the Z-map.
+    ``layers`` (N, ny, nx) morphing layers or (N,) z levels, for the figure."""
+    d_z = stock.z_top - stock.z_min
+    if not 0 < d_cut <= d_z:
+        raise ValueError(f"roughing.max_depth: {d_cut:g} must be > 0 and at most the stock depth D_z = {d_z:.3f} mm")
+    a = allowance_semi + allowance_finish
+    n = layer_count(stock.z_top, stock.z_min, allowance_semi, allowance_finish, d_cut)
+    floor = floor_field(stock.z_surface, stock.grid, 0.5 * tool.diameter, a)
+    kw = dict(z_top=stock.z_top, safe_z=stock.z_top + clearance, feed=feed, plunge_feed=plunge_feed,
+              tolerance=tolerance, comments=[f"{method} roughing, {n} layers, max depth {d_cut:g} mm"])
+    if method == "morphing":
+        layers = morph_layers(floor, stock.z_top, n)
+        tp = morph_path(stock.grid, layers, tool, stepover, **kw)
+    elif method == "zlevel":
+        layers = z_levels(floor, stock.z_top, n)
+        tp = zlevel_path(stock.grid, floor, layers, tool, stepover, **kw)
+    else:
+        raise ValueError(f"roughing.method: unknown method {method!r} (known: morphing, zlevel)")
+    zmap = StockZMap(stock.grid, stock.z_top)
+    stats = zmap.cut(tp)
+    left_min, left_max = zmap.clearance_over(stock.z_surface)
+    stats.update(method=method, n_layers=n, d_z=d_z, d_layers=d_z - a, d_cut=d_cut, z_top=stock.z_top,
+                 z_min=stock.z_min, allowance=a, left_min=left_min, left_max=left_max)
+    return tp, stats, (floor, layers)
+
+
+def _span(surface, along: str, samples: int = 101) -> float:
+    """Length of the middle iso-curve along u ('u') or v ('v')."""
+    t = np.linspace(0, 1, samples)
+    u, v = (t, np.full_like(t, 0.5)) if along == "u" else (np.full_like(t, 0.5), t)
+    return float(np.linalg.norm(np.diff(surface.points(u, v), axis=0), axis=1).sum())
+
+
+def ball_on_offset(surface, tool: Tool, *, allowance: float, stepover: float, step: float, feed: float,
+                   plunge_feed: float, name: str, clearance: float = 10.0) -> tuple[Toolpath, int]:
+    """(toolpath, folded points): 3-axis ball-end zig-zag on the normal offset at R + allowance."""
+    r = 0.5 * tool.diameter
+    nv = int(math.ceil(_span(surface, "v") / stepover - 1e-9)) + 1
+    nu = int(math.ceil(_span(surface, "u") / step - 1e-9)) + 1
+    u, v = np.linspace(0, 1, nu), np.linspace(0, 1, nv)
+    uu = np.concatenate([u if j % 2 == 0 else u[::-1] for j in range(nv)])
+    vv = np.repeat(v, nu)
+    off = normal_offset(surface, uu, vv, r + allowance)
+    tip = off.points - [0.0, 0.0, r]
+    axis = np.tile([0.0, 0.0, 1.0], (len(tip), 1))
+    tp = Toolpath.from_passes(name, tool, tip, axis, np.repeat(np.arange(nv), nu), feed=feed,
+                              plunge_feed=plunge_feed, clearance=clearance,
+                              comments=[f"ball centre on the normal offset at R + {allowance:g} mm"])
+    return tp, int(off.folded.sum())
+
+
+def finish_from_plan(simulator, tool_index: int, params, number: int, spindle_rpm: float, *,
+                     plunge_feed: float | None = None, clearance: float = 10.0) -> Toolpath:
+    """The toolpath problem's finishing path for one parameter row (tool index, step-over %,
+    lead, tilt, step) as a Toolpath (same tips, axes and passes as ``toolpath.apt``)."""
+    x = np.array([float(tool_index), *params], float)
+    cc = simulator.pattern(x)
+    t = simulator.tools.tools[tool_index]
+    tool = Tool(number, t.diameter, t.corner_radius, spindle_rpm)
+    text = (f"evoplan plan: tool {t.id} ({t.label()}), step-over {x[1]:g} %, lead {x[2]:g} deg, "
+            f"tilt {x[3]:g} deg, step {x[4]:g} mm")
+    return Toolpath.from_passes("finish", tool, cc.tool_tip, cc.axis, cc.pass_index, feed=simulator.feed_rate,
+                                plunge_feed=plunge_feed, clearance=clearance, comments=[text])

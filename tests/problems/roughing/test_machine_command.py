@@ -1,0 +1,92 @@
+"""``evoplan machine``: every file written and readable; bad input is one line, exit 2, no files."""
+
+import io
+import json
+import subprocess
+import sys
+
+import ezdxf
+import numpy as np
+import pytest
+from stl import mesh as stl_mesh
+
+from evoplan.problems.toolpath.outputs.apt_read import read_apt
+from evoplan.problems.toolpath.outputs.kinematics import Kinematics, Rotary
+from evoplan.problems.toolpath.outputs.posts import POSTS, Machine
+
+SMALL = """name: small
+surface:
+  type: bezier
+  poles:
+    - [[0, 0, 0], [0, 15, 4], [0, 30, 0]]
+    - [[20, 0, 4], [20, 15, 14], [20, 30, 4]]
+    - [[40, 0, 0], [40, 15, 4], [40, 30, 0]]
+stock: {{cell: 1.0{top}}}
+roughing: {{method: {method}, max_depth: {depth}, tool: {{diameter: 8}}}}
+semifinish: {{stepover: 4, step: 3}}
+finish: {{params: {{tool: 8, stepover: 40, lead: 2, tilt: 0, step: 8}}}}
+post: {{dialect: {dialect}, kinematics: {{tilt: {{name: B, about: y, limits: {limits}}}, layout: head_table}}}}
+"""
+
+
+def machine(tmp_path, *args):
+    return subprocess.run([sys.executable, "-m", "evoplan", "machine", *map(str, args)], capture_output=True,
+                          text=True, cwd=tmp_path, timeout=300)
+
+
+def config(tmp_path, method="zlevel", depth=3.0, dialect="heidenhain", limits="[-90, 90]", top=""):
+    path = tmp_path / "m.yaml"
+    path.write_text(SMALL.format(method=method, depth=depth, dialect=dialect, limits=limits, top=top))
+    return path
+
+
+def test_machine_writes_every_file(tmp_path):
+    proc = machine(tmp_path, config(tmp_path), "--out", tmp_path / "out")
+    assert proc.returncode == 0, proc.stderr
+    out = tmp_path / "out"
+    names = {p.name for p in out.iterdir()}
+    assert names == {"roughing.nc", "semifinish.nc", "finish.nc", "roughing.apt", "semifinish.apt", "finish.apt",
+                     "surface.dxf", "surface.stl", "toolpaths.dxf", "layers.png", "summary.json"}
+    summary = json.loads((out / "summary.json").read_text())
+    rough = summary["roughing"]
+    assert rough["method"] == "zlevel" and rough["n_layers"] == int(np.ceil(rough["d_layers"] / 3.0 - 1e-9))
+    assert 0 < rough["max_depth"] <= 3.0 and rough["rapid_volume"] == 0
+    assert rough["left_min"] >= summary["roughing"]["allowance"] - 0.011
+    for op in ("roughing", "semifinish", "finish"):
+        assert summary[op]["nc_bytes"] == (out / f"{op}.nc").stat().st_size > 0
+    assert summary["finish"]["multi_axis"] and not summary["roughing"]["multi_axis"]
+    # the NC programs parse with the dialect's grammar and the APT files read back
+    kin = Kinematics("head_table", Rotary("B", "y", (-90, 90)), Rotary("C", "z", (-360, 360)))
+    post = POSTS["heidenhain"](Machine(kin))
+    for op in ("roughing", "semifinish", "finish"):
+        moves = post.read((out / f"{op}.nc").read_text())
+        tp = read_apt(out / f"{op}.apt")
+        np.testing.assert_allclose(moves.tip[-2], tp.tip[-1], atol=1e-3)     # the last move, before the retract
+        assert tp.multax == (op == "finish") and tp.diameter > 0
+    doc = ezdxf.read(io.StringIO((out / "surface.dxf").read_text()))
+    grid = doc.modelspace().query("POLYLINE")[0]
+    assert grid.is_polygon_mesh and len(list(grid.vertices)) == grid.dxf.m_count * grid.dxf.n_count
+    paths = ezdxf.read(io.StringIO((out / "toolpaths.dxf").read_text()))
+    layers = {e.dxf.layer for e in paths.modelspace()}
+    assert {"ROUGHING", "SEMIFINISH", "FINISH", "ROUGHING_RAPID"} <= layers
+    surf = stl_mesh.Mesh.from_file(str(out / "surface.stl"))
+    assert abs(surf.vectors[..., 2].max() - summary["surface"]["z_max"]) < 1e-2 and np.all(surf.normals[:, 2] > 0)
+
+
+BAD = {
+    "depth_zero": (dict(depth=0), "roughing.max_depth"),
+    "depth_above_stock": (dict(depth=50), "roughing.max_depth"),
+    "unknown_dialect": (dict(dialect="okuma"), "post.dialect: unknown post 'okuma'"),
+    "unreachable": (dict(limits="[-3, 3]"), "post.kinematics: finish: point"),
+    "stock_below": (dict(top=", top: 5"), "stock.top"),
+}
+
+
+@pytest.mark.parametrize("case", sorted(BAD))
+def test_bad_input_is_one_line_exit_2_no_files(tmp_path, case):
+    kw, words = BAD[case]
+    proc = machine(tmp_path, config(tmp_path, **kw), "--out", tmp_path / "out")
+    assert proc.returncode == 2, proc.stderr
+    lines = proc.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("evoplan: error: ") and words in lines[0], proc.stderr
+    assert not (tmp_path / "out").exists()
