@@ -1,0 +1,19 @@
+"""Cutters: one abstraction for flat-end, ball-end and toroidal (bull-nose) end mills.
+
+- ``base``: :class:`Cutter` (the primitives a shape implements, and what is written once
+  on them: CC -> tip offset, drop-cutter, R_eff, the APT statement) and the registry
+  (:func:`register`, :func:`make_cutter`).
+- ``shapes``: the flat-end, ball-end and toroidal cutters (one torus geometry).
+- ``drop``: the 3-axis drop-cutter against an exact parametric surface.
+- ``surface_grid``: the dense (u, v) grid with an XY KD-tree, and the inverse map XY -> (u, v).
+
+A new shape (tapered, conical, ...) is one subclass of :class:`Cutter` decorated with
+:func:`register`; nothing outside this package branches on the shape.
+"""
+
+from . import shapes as _shapes  # noqa: F401  (registers the shapes)
+from .base import CUTTERS, Cutter, cutter_from_tool, cutter_names, make_cutter, register
+from .shapes import BallEndCutter, FlatEndCutter, ToroidalCutter
+
+__all__ = ["CUTTERS", "Cutter", "BallEndCutter", "FlatEndCutter", "ToroidalCutter",
+           "cutter_from_tool", "cutter_names", "make_cutter", "register"]

@@ -1,0 +1,135 @@
+"""Flat-end, ball-end and toroidal (bull-nose) cutters: one torus geometry, three shapes.
+
+The cutting end of all three is the Minkowski sum of the rim disk (radius R0 = R - r, in the
+plane normal to the axis a, centred r above the tip) and a ball of radius r: r = 0 is the
+flat-end (the disk), R0 = 0 the ball-end (the ball), both > 0 the torus. Above the height r
+the cutter is the cylindrical shank of radius R.
+
+Exact circle geometry of the lower profile of a vertical cutter (tip at the origin):
+
+    height(rho) = 0                                 rho <= R0      (flat bottom)
+                = r - sqrt(r^2 - (rho - R0)^2)      R0 < rho <= R  (corner arc)
+                = inf                               rho > R
+
+    width(h)    = R0 + sqrt(2 r h - h^2)            0 <= h < r
+                = R                                 h >= r         (the shank)
+
+Support point along a unit direction d (the contact of a cutter resting on a plane of
+normal n is the support point along -n):
+
+    S(d) = r a + R0 e + r d,   e = (d - (d.a) a) / |d - (d.a) a|   (e = 0 when d = +-a)
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .base import Cutter, register
+
+__all__ = ["ToroidalCutter", "FlatEndCutter", "BallEndCutter"]
+
+_TOL = 1e-12
+
+
+def _is_ball(d: float, r: float) -> bool:
+    return abs(r - d / 2) <= _TOL * max(d / 2, 1.0)
+
+
+class _Revolved(Cutter):
+    """The torus geometry of the module docstring; the registered shapes specialise it."""
+
+    @property
+    def rim_radius(self) -> float:
+        """R0 = R - r: radius of the circle of corner-arc centres (flat bottom)."""
+        return self.radius - self.corner_radius
+
+    def height_jet(self, s):
+        """(g, g', g'') of the lower profile at s = rho^2 / 2 (module docstring), with
+        g' = h'(rho) / rho and g'' = (h''(rho) - h'(rho) / rho) / rho^2; inf beyond R."""
+        s = np.asarray(s, float)
+        rho = np.sqrt(2.0 * np.maximum(s, 0.0))
+        r, r0, big = self.corner_radius, self.rim_radius, self.radius
+        inside = rho <= big * (1 + _TOL)
+        corner = inside & (rho > r0) & (r > 0)
+        dx = np.where(corner, rho - r0, 0.0)
+        w = np.sqrt(np.maximum(r * r - dx * dx, 0.0))
+        with np.errstate(divide="ignore", invalid="ignore"):
+            g1 = np.where(corner, dx / (w * rho), 0.0)
+            g2 = np.where(corner, (r * r / (w * w * w) - g1) / (rho * rho), 0.0)
+        g = np.where(inside, np.where(corner, r - w, 0.0), np.inf)
+        return g, g1, g2
+
+    def width(self, h):
+        """Half-width at height h above the tip: R0 + sqrt(2 r h - h^2) below r, R above."""
+        h = np.asarray(h, float)
+        r = self.corner_radius
+        hc = np.clip(h, 0.0, r)
+        w = np.where(h >= r, self.radius, self.rim_radius + np.sqrt(np.maximum(2 * r * hc - hc * hc, 0.0)))
+        return np.where(h < 0, np.nan, w)
+
+    def support_point(self, axis, direction):
+        """S(d) = r a + R0 e + r d (module docstring), relative to the tip; batched (k, 3).
+
+        The cutting end only (below the height r): for directions with d.a > 0 the shank
+        above would reach further.
+        """
+        d = np.asarray(direction, float)
+        d = d / np.linalg.norm(d, axis=-1, keepdims=True)
+        a = np.asarray(axis, float)
+        a = np.broadcast_to(a / np.linalg.norm(a, axis=-1, keepdims=True), d.shape)
+        proj = d - np.sum(d * a, axis=-1, keepdims=True) * a
+        norm = np.linalg.norm(proj, axis=-1, keepdims=True)
+        e = np.where(norm > 1e-12, proj / np.where(norm > 1e-12, norm, 1.0), 0.0)
+        r = self.corner_radius
+        return r * a + self.rim_radius * e + r * d
+
+
+@register("flat", "flat-end", "flat_end")
+class FlatEndCutter(_Revolved):
+    """Flat-end mill: r = 0 (the end face cuts; on a slope the rim touches)."""
+
+    @classmethod
+    def accepts(cls, diameter, corner_radius):
+        return diameter > 0 and corner_radius == 0
+
+    @classmethod
+    def default_corner_radius(cls, diameter):
+        return 0.0
+
+
+@register("ball", "ball-end", "ball_end")
+class BallEndCutter(_Revolved):
+    """Ball-end mill: r = R (a sphere centred R above the tip)."""
+
+    @classmethod
+    def accepts(cls, diameter, corner_radius):
+        return diameter > 0 and _is_ball(diameter, corner_radius)
+
+    @classmethod
+    def default_corner_radius(cls, diameter):
+        return diameter / 2
+
+    def height_jet(self, s):
+        """Sphere: g = R - sqrt(R^2 - 2 s), g' = 1 / w, g'' = 1 / w^3 (w = sqrt(R^2 - 2 s))."""
+        s = np.asarray(s, float)
+        big = self.radius
+        w2 = big * big - 2.0 * np.maximum(s, 0.0)
+        inside = w2 >= -_TOL * big * big
+        w = np.sqrt(np.maximum(w2, 0.0))
+        with np.errstate(divide="ignore"):
+            g1 = np.where(inside, 1.0 / w, 0.0)
+        return np.where(inside, big - w, np.inf), g1, np.where(inside, g1 ** 3, 0.0)
+
+    def effective_radius_3axis(self, slope, steepest, alpha):
+        """A ball-end's R_eff is R for every slope and feed (Djebali Eq. 1 with r = R)."""
+        shape = np.broadcast_shapes(np.shape(slope), np.shape(steepest), np.shape(alpha))
+        return np.full(shape, self.radius)
+
+
+@register("toroidal", "torus", "bull-nose", "bullnose")
+class ToroidalCutter(_Revolved):
+    """Toroidal (bull-nose) mill: 0 < r < R."""
+
+    @classmethod
+    def accepts(cls, diameter, corner_radius):
+        return diameter > 0 and 0 < corner_radius < diameter / 2 and not _is_ball(diameter, corner_radius)
