@@ -58,7 +58,7 @@ class PymooDEConfig(PymooConfig):
     representation: Literal["real"] = "real"
     variant: str = Field("DE/rand/1/bin", pattern=r"^DE/(rand|best|target-to-best)/[12]/(bin|exp)$")
     CR: float = Field(0.9, ge=0, le=1)
-    F: float | None = Field(None, gt=0, le=2, description="None: pymoo's dither in [0.4, 0.7]")
+    F: float | None = Field(None, gt=0, le=2, description="None: pymoo's default, a fixed 0.5 with a variant string")
 
 
 class PymooCMAESConfig(AdapterConfig):

@@ -1,4 +1,4 @@
-"""The analysis files of a study from its records: tables, tests, figures, report."""
+"""The analysis files of a study from its records: tables, tests, figures, report, IOH export."""
 
 from __future__ import annotations
 
@@ -7,8 +7,9 @@ from typing import Any, Callable
 import pandas as pd
 
 from .config import StudyConfig
-from .curves import DEFAULT_TARGETS, reference_values
+from .curves import DEFAULT_TARGETS, reference_values, step_history
 from .folder import StudyFolder, runs_frame
+from .ranking import bayesian, cd_diagram, friedman
 from .report import render
 from .statistics import BLOCK, compare, summarize
 
@@ -29,9 +30,10 @@ def _invocation(e: dict[str, Any]) -> str:
 def analyze(study: StudyConfig, folder: StudyFolder, records: list[dict[str, Any]],
             history: Callable[[str], pd.DataFrame], reference_levels: dict[str, str],
             executions: list[dict[str, Any]]) -> None:
-    """Write ``runs.csv``, ``summary.csv``, ``tests.csv``, the figures and ``report.md``."""
+    """Write ``runs.csv``, ``summary.csv``, ``tests.csv``, ``friedman.csv``, ``nemenyi.csv``,
+    ``bayes.csv``, the figures, ``report.md`` and the ``ioh/`` export."""
     runs = runs_frame(records)
-    for col in ("final_best", "best_overall", "optimum", "budget", "evaluations", "wall_seconds"):
+    for col in ("final_best", "best_overall", "optimum", "budget", "evaluations", "cache_hits", "wall_seconds"):
         runs[col] = pd.to_numeric(runs[col], errors="coerce")
     runs["factor"] = runs["factor"].fillna("")
     runs["level"] = runs["level"].fillna("").astype(str)
@@ -41,18 +43,36 @@ def analyze(study: StudyConfig, folder: StudyFolder, records: list[dict[str, Any
     st = study.statistics
     tests = compare(runs, default_reference(study), reference_levels, st.test, st.alpha)
     folder.write_table("tests.csv", tests)
+    reference = default_reference(study)
+    ok_runs = runs[runs["status"] == "ok"]
+    ranks, pairs, diagrams = friedman(runs, reference, reference_levels)
+    folder.write_table("friedman.csv", ranks)
+    folder.write_table("nemenyi.csv", pairs)
+    bayes = bayesian(runs, reference, reference_levels, st.rope) if len(ok_runs) else None
+    if bayes is not None:
+        folder.write_table("bayes.csv", bayes)
     f_ref = reference_values(runs)
     known = runs.groupby(BLOCK)["optimum"].first()
     targets = DEFAULT_TARGETS if st.targets is None else st.targets
+
+    def steps(key: str) -> pd.DataFrame:  # best so far at evaluation granularity
+        return step_history(folder.trace(key), history(key))
+
+    if study.output.ioh and len(ok_runs):
+        from .ioh_export import export
+
+        export(folder.out, runs, folder.trace, known)
     names = []
-    if study.output.plots and (runs["status"] == "ok").any():
+    if study.output.plots and len(ok_runs):
         from . import figures
 
         plots = {
-            "figures/convergence.png": lambda: figures.convergence(runs, history, f_ref),
+            "figures/convergence.png": lambda: figures.convergence(runs, steps, f_ref),
             "figures/final_values.png": lambda: figures.final_boxes(runs, f_ref),
-            "figures/ecdf.png": lambda: figures.ecdf_figure(runs, history, f_ref, targets),
+            "figures/ecdf.png": lambda: figures.ecdf_figure(runs, steps, f_ref, targets),
         }
+        if diagrams:
+            plots["figures/critical_difference.png"] = lambda: cd_diagram(diagrams, st.alpha)
         if (runs["factor"] != "").any():
             plots["figures/factor_effects.png"] = lambda: figures.factor_effects(runs, f_ref)
             plots["figures/factor_generations.png"] = lambda: figures.factor_generations(runs, history, f_ref)
@@ -64,11 +84,12 @@ def analyze(study: StudyConfig, folder: StudyFolder, records: list[dict[str, Any
                 f"{summary.groupby(['algorithm', 'factor', 'level']).ngroups} variants, {study.seeds} seeds "
                 f"= {len(runs)} runs",
         "budget": ", ".join(f"{k}={v}" for k, v in study.budget.model_dump().items() if v not in (None, False)),
-        "reference": default_reference(study),
+        "reference": reference,
         "runs made": "; ".join(_invocation(e) for e in executions if e["ran"]) or "none",
         "failed runs": int((runs["status"] != "ok").sum()),
     }
     failures = runs[runs["status"] != "ok"]
+    extra = {"budget": study.cache.budget, "rope": st.rope, "friedman": ranks, "bayes": bayes}
     text = render(study.name or "study", meta, summary, tests, f_ref, known, names, failures, st.test, st.alpha,
-                  len(targets))
+                  len(targets), extra)
     folder.write_text("report.md", text)

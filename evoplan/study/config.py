@@ -16,7 +16,7 @@ Layout::
     factors:                                            # optional: one factor at a time
       algorithm: vega                                   # the label of the entry varied
       vary: {virus.count: [2, 5, 7, 10], virus.infection_rate: [0.1, {virus.infection_rate: 1.0}]}
-    statistics: {reference: ga, test: signed_rank, alpha: 0.05, targets: null}
+    statistics: {reference: ga, test: signed_rank, alpha: 0.05, targets: null, rope: 0.0}
     output: {plots: true, ioh: true}
     cache: {size: 100000, budget: distinct}   # see evoplan/cache.py
 
@@ -78,6 +78,7 @@ class StatisticsConfig(_Strict):
     test: Literal["signed_rank", "rank_sum"] = "signed_rank"
     alpha: float = Field(0.05, gt=0, lt=1)
     targets: list[float] | None = Field(None, description="ECDF precisions f - f_ref; default 10^2 .. 10^-8")
+    rope: float = Field(0.0, ge=0, description="Bayesian signed-rank: region of practical equivalence, objective units")
 
 
 class OutputConfig(_Strict):

@@ -1,15 +1,18 @@
-"""Performance curves from run histories: best-so-far on a grid, runtimes to targets, ECDFs.
+"""Performance curves from run traces: best-so-far on a grid, runtimes to targets, ECDFs.
 
-A history has one row per generation (``evaluations`` used so far, ``best`` value so far). The
-best-so-far of a run is a step function of the evaluations: its value at ``e`` is the ``best``
-of the last row with ``evaluations <= e`` (undefined before the first generation ends).
+A run's best-so-far is a step function of the evaluations. The engine records it exactly: the
+trace of improvements (``evaluation``, ``best``: the index of each evaluation that found a new
+best, and that value), see :func:`step_history`; its value at ``e`` is the ``best`` of the last
+row with ``evaluations <= e`` (undefined before the first evaluation). A study folder from
+before traces were kept falls back to the history (one row per generation), where the value
+is only known at generation ends.
 
 **Fixed-target runtimes** (COCO/IOHprofiler style). For a reference value ``f_ref`` (the known
 optimum, else the best final value of any run on that problem) and a precision ``t``, the
-runtime of a run is the number of evaluations at the end of the first generation whose best is
-``<= f_ref + t``; a run whose exact in-budget value (``final_best``) reaches the target but only
-in its last, budget-crossing generation gets the budget; a run that never reaches it, ``inf``.
-The ECDF at ``e`` is the share of (run, target) pairs solved within ``e`` evaluations.
+runtime of a run is the index of the first evaluation whose value is ``<= f_ref + t`` (with a
+generation history: the evaluation count at the end of that generation, which overstates it);
+a hit after the budget does not count; a run that never reaches the target has runtime
+``inf``. The ECDF at ``e`` is the share of (run, target) pairs solved within ``e`` evaluations.
 """
 
 from __future__ import annotations
@@ -61,6 +64,23 @@ def runtimes(history: pd.DataFrame, final_best: float, budget: float | None, abs
         fb = np.nan if final_best is None else float(final_best)
         out = np.where(fb <= absolute_targets, np.minimum(out, budget), np.inf)
     return out
+
+
+def step_history(trace: pd.DataFrame | None, history: pd.DataFrame) -> pd.DataFrame:
+    """The best-so-far of a run at evaluation granularity, as ``(evaluations, best)`` rows.
+
+    One row per improvement of the ``trace`` (``evaluation``, ``best``), then one at the run's
+    last evaluation count (from ``history``) so the curve reaches the end of the run. Without
+    a trace (``None``), the generation ``history`` itself.
+    """
+    if trace is None:
+        return history
+    rows = pd.DataFrame({"evaluations": trace["evaluation"].to_numpy(dtype=float),
+                         "best": trace["best"].to_numpy(dtype=float)})
+    if len(history) and len(rows) and history["evaluations"].iloc[-1] > rows["evaluations"].iloc[-1]:
+        end = {"evaluations": float(history["evaluations"].iloc[-1]), "best": rows["best"].iloc[-1]}
+        rows = pd.concat([rows, pd.DataFrame([end])], ignore_index=True)
+    return rows
 
 
 def ecdf(times: np.ndarray, grid: np.ndarray) -> np.ndarray:

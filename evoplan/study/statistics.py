@@ -10,8 +10,10 @@ averages over repetitions (Friedman-style ranks, meaningful because repetitions 
 **Tests.** Repetition ``r`` of every variant on a problem ran with the same seed (see
 ``grid.py``), so results are paired by repetition and the default test is the Wilcoxon
 signed-rank test on the paired differences (``scipy.stats.wilcoxon``, two-sided, zero
-differences dropped; exact p-values for fewer than 50 pairs without ties, normal approximation
-otherwise; all differences zero gives p = 1). ``test: rank_sum`` uses the Mann-Whitney U test
+differences dropped; all differences zero gives p = 1). SciPy's p-value is exact for up to 50
+pairs without ties or zeros (the exact null distribution), and also exact for up to 13 pairs
+with ties or zeros (a permutation test over all 2^n sign assignments); with ties or zeros and
+more than 13 pairs, or beyond 50 pairs, it is the normal approximation. ``test: rank_sum`` uses the Mann-Whitney U test
 instead (``scipy.stats.mannwhitneyu``), which ignores the pairing. The effect size is the
 rank-biserial correlation (paired or unpaired form); its sign gives the direction of a
 significant difference (the median difference is often 0 when most runs reach the same value). p-values are adjusted with
@@ -20,6 +22,8 @@ problem and dimension (for a factor study: the levels of one factor against its 
 """
 
 from __future__ import annotations
+
+from math import comb
 
 import numpy as np
 import pandas as pd
@@ -112,6 +116,28 @@ TESTS = {"signed_rank": paired, "rank_sum": unpaired}
 def _by_repetition(runs: pd.DataFrame, reps: np.ndarray) -> np.ndarray:
     values = runs["final_best"].where(runs["status"] == "ok").astype(float)
     return values.set_axis(runs["repetition"]).groupby(level=0).first().reindex(reps).to_numpy()
+
+
+def value_matrix(variants: list[tuple[tuple[str, str], pd.DataFrame]]) -> np.ndarray:
+    """``(repetitions, variants)`` final values paired by repetition: failed runs ``inf`` (last),
+    a repetition a variant lacks NaN."""
+    reps = np.unique(np.concatenate([rows["repetition"].to_numpy() for _, rows in variants]))
+    cols = []
+    for _, rows in variants:
+        values = rows["final_best"].astype(float).where(rows["status"] == "ok", np.inf)
+        cols.append(values.set_axis(rows["repetition"]).groupby(level=0).first().reindex(reps).to_numpy())
+    return np.column_stack(cols)
+
+
+def smallest_p(test: str, n: int, m: int = 1) -> float:
+    """The smallest Holm-adjusted p-value ``test`` can give with ``n`` runs a side and ``m``
+    comparisons in the family: ``2 / 2**n`` (signed-rank: every difference of one sign) or
+    ``2 / C(2n, n)`` (rank-sum: complete separation), times ``m``. If it is not below alpha,
+    no difference can be declared, whatever the data."""
+    if n < 1:
+        return 1.0
+    p = 2.0 / 2.0**n if test == "signed_rank" else 2.0 / float(comb(2 * n, n))
+    return min(1.0, m * p)
 
 
 def families(runs: pd.DataFrame, reference: str, reference_levels: dict[str, str]):

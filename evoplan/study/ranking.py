@@ -1,0 +1,118 @@
+"""More than two variants at once: Friedman test, Nemenyi post-hoc, critical-difference diagram;
+and the Bayesian signed-rank test of each variant against the reference.
+
+**Friedman / Nemenyi** (Demšar 2006). Within each test family (a problem and dimension; for a
+factor study, the levels of one factor, as in ``statistics.py``) the repetitions are the
+blocks: repetition ``r`` of every variant ran from the same seed. Each block ranks the variants
+by final value (failed runs last, ties share the average rank). The Friedman test
+(``scipy.stats.friedmanchisquare``) asks whether any variant differs; the Nemenyi post-hoc
+test on the same ranks (``scikit_posthocs.posthoc_nemenyi_friedman``) gives every pair's
+p-value, and the critical-difference diagram (``scikit_posthocs.critical_difference_diagram``)
+draws the mean ranks with a bar joining the variants no pair test separates. Only families of
+three or more variants are tested.
+
+**Bayesian signed-rank test** (Benavoli et al. 2014, ``baycomp.SignedRankTest``): on the
+differences paired by repetition, the posterior probabilities that the variant is better
+(lower), practically equivalent (within ``rope``, in objective units; only when ``rope > 0``)
+or worse than the reference. It states how likely each outcome is, rather than whether a
+null hypothesis is rejected; with ``rope = 0`` there is no equivalence region.
+"""
+
+from __future__ import annotations
+
+import io
+
+import numpy as np
+import pandas as pd
+from scipy import stats
+
+from .statistics import families, value_matrix
+
+FRIEDMAN_COLUMNS = ["problem", "dimension", "factor", "variants", "n", "statistic", "p_value"]
+BAYES_COLUMNS = ["problem", "dimension", "factor", "reference", "algorithm", "level", "n", "rope",
+                 "p_better", "p_equivalent", "p_worse"]
+
+
+def _label(factor: str, key: tuple[str, str]) -> str:
+    return key[0] if not factor else f"{factor}={key[1]}"
+
+
+def friedman(runs: pd.DataFrame, reference: str, reference_levels: dict[str, str] | None = None):
+    """``(friedman table, nemenyi table, diagrams)``; a diagram is ``(title, mean ranks, p matrix)``."""
+    rows, pairs, diagrams = [], [], []
+    for (problem, dimension), factor, ref, others in families(runs, reference, reference_levels or {}):
+        variants = [ref, *others]
+        if len(variants) < 3:
+            continue
+        labels = [_label(factor, key) for key, _ in variants]
+        values = value_matrix(variants)  # (repetitions, variants), failed runs inf
+        values = values[~np.isnan(values).any(axis=1)]
+        if len(values) < 2:
+            continue
+        ranks = pd.DataFrame(stats.rankdata(values, axis=1), columns=labels)
+        if np.ptp(ranks.to_numpy(), axis=1).max() == 0:  # every block a tie: nothing to test
+            statistic, p = 0.0, 1.0
+            p_matrix = pd.DataFrame(1.0, index=labels, columns=labels)
+        else:
+            res = stats.friedmanchisquare(*values.T)
+            statistic, p = float(res.statistic), float(res.pvalue)
+            import scikit_posthocs as sp
+
+            p_matrix = sp.posthoc_nemenyi_friedman(ranks)
+        rows.append({"problem": problem, "dimension": dimension, "factor": factor, "variants": len(labels),
+                     "n": len(values), "statistic": statistic, "p_value": p})
+        for i, a in enumerate(labels):
+            for b in labels[i + 1:]:
+                pairs.append({"problem": problem, "dimension": dimension, "factor": factor, "a": a, "b": b,
+                              "mean_rank_a": ranks[a].mean(), "mean_rank_b": ranks[b].mean(),
+                              "p_nemenyi": float(p_matrix.loc[a, b])})
+        title = f"{problem}, {dimension}-D" + (f", {factor}" if factor else "")
+        diagrams.append((title, ranks.mean(), p_matrix))
+    return (pd.DataFrame(rows, columns=FRIEDMAN_COLUMNS), pd.DataFrame(pairs), diagrams)
+
+
+def cd_diagram(diagrams, alpha: float = 0.05) -> bytes:
+    """The critical-difference diagrams of :func:`friedman`, one panel each, as PNG bytes."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import scikit_posthocs as sp
+
+    fig, axes = plt.subplots(len(diagrams), 1, figsize=(8, 1.2 + 1.3 * len(diagrams)), squeeze=False)
+    for ax, (title, ranks, p_matrix) in zip(axes[:, 0], diagrams):
+        sp.critical_difference_diagram(ranks, p_matrix, alpha=alpha, ax=ax)
+        ax.set_title(f"{title}: mean rank (1 = best); a bar joins variants not separated at alpha = {alpha}",
+                     fontsize=9)
+    fig.tight_layout()
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=120)
+    plt.close(fig)
+    return buf.getvalue()
+
+
+def bayesian(runs: pd.DataFrame, reference: str, reference_levels: dict[str, str] | None = None,
+             rope: float = 0.0, nsamples: int = 20000, seed: int = 0) -> pd.DataFrame:
+    """``bayes.csv``: every variant against the reference of its family (see the module docstring)."""
+    import baycomp
+
+    out = []
+    for (problem, dimension), factor, ref, others in families(runs, reference, reference_levels or {}):
+        for variant in others:
+            values = value_matrix([variant, ref])
+            values = values[np.isfinite(values).all(axis=1)]
+            x, y = values[:, 0], values[:, 1]
+            row = {"problem": problem, "dimension": dimension, "factor": factor,
+                   "reference": _label(factor, ref[0]), "algorithm": variant[0][0], "level": variant[0][1],
+                   "n": len(x), "rope": rope, "p_better": np.nan, "p_equivalent": np.nan, "p_worse": np.nan}
+            if len(x) >= 2 and np.any(x != y):
+                # baycomp works on y - x: "right" is reference - variant > rope, the variant lower
+                probs = baycomp.SignedRankTest.probs(x, y, rope=rope, nsamples=nsamples, random_state=seed)
+                if rope > 0:
+                    row.update(p_worse=probs[0], p_equivalent=probs[1], p_better=probs[2])
+                else:
+                    row.update(p_worse=probs[0], p_better=probs[1])
+            elif len(x):
+                row.update(p_better=0.0, p_worse=0.0, p_equivalent=1.0)
+            out.append(row)
+    return pd.DataFrame(out, columns=BAYES_COLUMNS)
