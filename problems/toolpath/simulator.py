@@ -30,6 +30,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .clpath import CLPath
 from .effective_radius import effective_radius_lead_tilt
 from .length import cutting_length, link_length, machining_time, travel_order
 from .pattern import PassGeometry, PatternBatch, cc_pattern_batch
@@ -182,3 +183,12 @@ class ToolpathSimulator:
                          tangent=t, axis=axis, tool_tip=tip,
                          uv=np.stack([pb.u, pb.v], axis=1)[order],
                          chord_error=pb.chord[order], scallop=pt["h"][order])
+
+    def cl_path(self, x) -> CLPath:
+        """The toolpath of ONE parameter set x (5,) as the machine runs it: tool tips and axes
+        in machining order, every pass and link one feed motion (as the APT program has it)."""
+        x = np.asarray(x, float).reshape(-1)
+        cc = self.pattern(x)
+        tool = self.tools.tools[int(np.clip(np.rint(x[0]), 0, len(self.tools) - 1))]
+        return CLPath(cc.tool_tip, cc.axis, tool.diameter, tool.corner_radius,
+                      pass_index=cc.pass_index, feed_rate=self.feed_rate)

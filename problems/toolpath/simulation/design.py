@@ -1,0 +1,165 @@
+"""The design surface on the simulation grid: one ray per cell (a Z-map over XY).
+
+A grid of square cells of side ``h`` (mm) covers the part's XY footprint. Every cell whose
+centre lies over the surface gets the design point below it and the unit normal there (on
+the tool side): the ray of that cell starts at the design point and climbs along the normal
+(or vertically), so the entry parameter the kernel finds is the residual measured along it.
+
+For a parametric surface the cell centres (x, y) are mapped back to (u, v): a bilinear seed
+from a coarse inverse table, then Newton's method on (x(u, v), y(u, v)) = (x, y). A centre
+whose Newton solution leaves the unit square, or does not converge, is off the part. The
+surface must be a graph over XY (one point above each (x, y)); a fold is refused.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.interpolate import RegularGridInterpolator
+from scipy.spatial import cKDTree
+
+from ..surface import Surface, unit_normal
+
+__all__ = ["DesignGrid", "design_grid", "grid_bytes", "BYTES_PER_CELL"]
+
+BYTES_PER_CELL = 8 * 6 + 1 + 8 * 2  # z, normal, residual, u, v, inside + working copies
+_CHUNK = 1 << 19
+
+
+@dataclass(frozen=True)
+class DesignGrid:
+    """Cell centres ``x0 + ix h``, ``y0 + iy h``; ``z`` (ny, nx) design height, ``normal``
+    (ny, nx, 3) unit normal on the tool side, ``inside`` (ny, nx) cells over the part."""
+
+    x0: float
+    y0: float
+    h: float
+    z: np.ndarray
+    normal: np.ndarray
+    inside: np.ndarray
+    u: np.ndarray | None = None
+    v: np.ndarray | None = None
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        return self.z.shape
+
+    @property
+    def xs(self) -> np.ndarray:
+        return self.x0 + self.h * np.arange(self.z.shape[1])
+
+    @property
+    def ys(self) -> np.ndarray:
+        return self.y0 + self.h * np.arange(self.z.shape[0])
+
+    def cell_area(self) -> np.ndarray:
+        """(ny, nx) surface area (mm^2) of each cell on the part, 0 off it (h^2 / n_z)."""
+        nz = np.abs(self.normal[..., 2])
+        return np.where(self.inside, self.h * self.h / np.where(nz > 1e-12, nz, 1.0), 0.0)
+
+
+def grid_bytes(extent_x: float, extent_y: float, h: float) -> int:
+    """Memory (bytes) the simulation needs for a footprint of that size at cell size h."""
+    return int((extent_x / h + 2) * (extent_y / h + 2) * BYTES_PER_CELL)
+
+
+def footprint(surface: Surface, n: int = 512) -> tuple[float, float, float, float]:
+    """(xmin, xmax, ymin, ymax) of the surface, from its boundary and a coarse interior."""
+    t = np.linspace(0.0, 1.0, n)
+    g = np.linspace(0.0, 1.0, 33)
+    gu, gv = (a.ravel() for a in np.meshgrid(g, g, indexing="ij"))
+    u = np.concatenate([t, np.ones(n), t, np.zeros(n), gu])
+    v = np.concatenate([np.zeros(n), t, np.ones(n), t, gv])
+    p = surface.jet(u, v, order=0).p
+    return float(p[:, 0].min()), float(p[:, 0].max()), float(p[:, 1].min()), float(p[:, 1].max())
+
+
+def _newton_xy(surface: Surface, x, y, u, v, iters: int = 8):
+    for _ in range(iters):
+        j = surface.jet(u, v, order=1)
+        rx, ry = j.p[:, 0] - x, j.p[:, 1] - y
+        a, b, c, d = j.su[:, 0], j.sv[:, 0], j.su[:, 1], j.sv[:, 1]
+        det = a * d - b * c
+        det = np.where(np.abs(det) > 1e-300, det, 1e-300)
+        u = u - (d * rx - b * ry) / det
+        v = v - (a * ry - c * rx) / det
+        u = np.clip(u, -0.05, 1.05)
+        v = np.clip(v, -0.05, 1.05)
+    return u, v
+
+
+def design_grid(surface: Surface, h: float, margin: float = 0.0,
+                max_bytes: float | None = None) -> DesignGrid:
+    """The design surface sampled on square cells of side ``h`` mm over its footprint.
+
+    ``margin`` widens the grid around the footprint (cells there are off the part).
+    ``max_bytes``: refuse (ValueError with the estimate) a grid that would need more memory.
+    """
+    if not (h > 0 and np.isfinite(h)):
+        raise ValueError(f"grid_mm: must be a positive number of mm, got {h!r}")
+    xmin, xmax, ymin, ymax = footprint(surface)
+    need = grid_bytes(xmax - xmin + 2 * margin, ymax - ymin + 2 * margin, h)
+    if max_bytes is not None and need > max_bytes:
+        raise ValueError(f"grid_mm: a {h:g} mm grid over {xmax - xmin:.1f} x {ymax - ymin:.1f} mm "
+                         f"needs about {need / 2**30:.1f} GiB, more than the "
+                         f"{max_bytes / 2**30:.1f} GiB allowed; use a coarser grid")
+    x0, y0 = xmin - margin + 0.5 * h, ymin - margin + 0.5 * h
+    nx = int(np.floor((xmax - xmin + 2 * margin) / h)) + 1
+    ny = int(np.floor((ymax - ymin + 2 * margin) / h)) + 1
+    # coarse inverse table (x, y) -> (u, v): nearest dense sample, Newton, then bilinear seed
+    nt = 161
+    g = np.linspace(0.0, 1.0, 301)
+    gu, gv = (a.ravel() for a in np.meshgrid(g, g, indexing="ij"))
+    gp = surface.jet(gu, gv, order=0).p
+    tx = np.linspace(xmin, xmax, nt)
+    ty = np.linspace(ymin, ymax, nt)
+    TX, TY = (a.ravel() for a in np.meshgrid(tx, ty, indexing="ij"))
+    _, idx = cKDTree(gp[:, :2]).query(np.stack([TX, TY], axis=1))
+    tu, tv = _newton_xy(surface, TX, TY, gu[idx], gv[idx], iters=12)
+    iu = RegularGridInterpolator((tx, ty), tu.reshape(nt, nt), bounds_error=False, fill_value=None)
+    iv = RegularGridInterpolator((tx, ty), tv.reshape(nt, nt), bounds_error=False, fill_value=None)
+    xs = x0 + h * np.arange(nx)
+    ys = y0 + h * np.arange(ny)
+    z = np.full(ny * nx, np.nan)
+    normal = np.zeros((ny * nx, 3))
+    inside = np.zeros(ny * nx, bool)
+    U = np.full(ny * nx, np.nan)
+    V = np.full(ny * nx, np.nan)
+    X = np.broadcast_to(xs[None, :], (ny, nx)).ravel()
+    Y = np.broadcast_to(ys[:, None], (ny, nx)).ravel()
+    for a in range(0, ny * nx, _CHUNK):
+        x, y = X[a:a + _CHUNK], Y[a:a + _CHUNK]
+        pts = np.stack([x, y], axis=1)
+        u, v = _newton_xy(surface, x, y, iu(pts), iv(pts), iters=4)
+        j = surface.jet(np.clip(u, 0, 1), np.clip(v, 0, 1), order=1)
+        ok = ((u >= -1e-9) & (u <= 1 + 1e-9) & (v >= -1e-9) & (v <= 1 + 1e-9)
+              & (np.hypot(j.p[:, 0] - x, j.p[:, 1] - y) < 1e-6))
+        nrm = unit_normal(j, surface.normal_sign)
+        if (ok & (nrm[:, 2] <= 1e-6)).any():
+            raise ValueError("surface: not a graph over XY (a vertical wall or a fold): "
+                             "the cut simulation needs one surface point above each (x, y)")
+        z[a:a + _CHUNK] = np.where(ok, j.p[:, 2], np.nan)
+        normal[a:a + _CHUNK] = nrm
+        inside[a:a + _CHUNK] = ok
+        U[a:a + _CHUNK] = np.where(ok, u, np.nan)
+        V[a:a + _CHUNK] = np.where(ok, v, np.nan)
+    return DesignGrid(float(x0), float(y0), float(h), z.reshape(ny, nx),
+                      normal.reshape(ny, nx, 3), inside.reshape(ny, nx),
+                      U.reshape(ny, nx), V.reshape(ny, nx))
+
+
+def analytic_grid(fz, fgrad, bounds, h: float) -> DesignGrid:
+    """A design grid from a graph z = fz(x, y) with gradient fgrad(x, y) -> (zx, zy) over
+    ``bounds`` (xmin, xmax, ymin, ymax); fz returns nan off the part. For closed-form tests."""
+    xmin, xmax, ymin, ymax = bounds
+    xs = xmin + 0.5 * h + h * np.arange(int(np.floor((xmax - xmin) / h)))
+    ys = ymin + 0.5 * h + h * np.arange(int(np.floor((ymax - ymin) / h)))
+    X, Y = np.meshgrid(xs, ys)
+    z = fz(X, Y)
+    zx, zy = fgrad(X, Y)
+    nrm = np.stack([-zx, -zy, np.ones_like(X)], axis=-1)
+    nrm /= np.linalg.norm(nrm, axis=-1, keepdims=True)
+    inside = np.isfinite(z) & np.isfinite(nrm).all(axis=-1)
+    nrm[~inside] = (0.0, 0.0, 1.0)
+    return DesignGrid(float(xs[0]), float(ys[0]), float(h), z, nrm, inside)
