@@ -72,7 +72,7 @@ def roughing(stock: Stock, method: str, tool: Tool, *, d_cut: float, stepover: f
         tp = morph_path(stock.grid, layers, tool, stepover, **kw)
     elif method == "zlevel":
         layers = z_levels(floor, stock.z_top, n)
-        tp = zlevel_path(stock.grid, floor, layers, tool, stepover, **kw)
+        tp = zlevel_path(stock.grid, floor, layers, tool, stepover, d_cut=d_cut, **kw)
     else:
         raise ValueError(f"roughing.method: unknown method {method!r} (known: morphing, zlevel)")
     zmap = StockZMap(stock.grid, stock.z_top)

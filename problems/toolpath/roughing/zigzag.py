@@ -10,8 +10,10 @@ a rapid retract to ``safe_z``.
 - Morphing: every line of a layer is cut whole; consecutive lines are linked along the
   stock's edge column at the layer's heights (cutting moves).
 - Z-level: a line of level z is cut only where the floor F <= z (runs); the next run is
-  reached by a cutting move at z when the straight link stays where F <= z, else by a
-  retract to ``safe_z``, a rapid, and a plunge.
+  reached by a cutting move at z when the straight link stays where F <= z and takes no
+  more than D_cut from the stock the levels above left (probed on a Z-map: a link may cross
+  material no raster line of the level above reached), else by a retract to ``safe_z``, a
+  rapid, and a plunge.
 
 Points along straight stretches are thinned (``toolpath.drop_collinear``, within
 ``tolerance``) so that NC size reflects the path's shape, not the grid.
@@ -107,11 +109,20 @@ def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
 
 
 def zlevel_path(grid: Grid, floor: np.ndarray, levels: np.ndarray, tool: Tool, stepover: float, *,
-                z_top: float, safe_z: float, feed: float, plunge_feed: float, tolerance: float = 0.01, comments=()) -> Toolpath:
-    """Zig-zag at each flat level (N,), only where floor <= level; level j as section j."""
+                z_top: float, safe_z: float, feed: float, plunge_feed: float, tolerance: float = 0.01,
+                d_cut: float | None = None, comments=()) -> Toolpath:
+    """Zig-zag at each flat level (N,), only where floor <= level; level j as section j.
+    A direct link must also take no more than ``d_cut`` from the stock left by the levels
+    above (probed on a Z-map), else the tool retracts."""
+    from .zmap import StockZMap
+
     rows = raster_rows(grid, stepover)
     b = _Builder(safe_z)
+    stock = StockZMap(grid, z_top)
+    limit = d_cut if d_cut is not None else np.inf
+    radius = 0.5 * tool.diameter
     for j, z in enumerate(levels):
+        start = sum(len(p) for p in b.pts)
         ok = floor <= z + 1e-9
         inside = False  # the tool is down at this level
         for n, row in enumerate(rows):
@@ -120,8 +131,10 @@ def zlevel_path(grid: Grid, floor: np.ndarray, levels: np.ndarray, tool: Tool, s
             for a, e in _runs(ok[row, order]):
                 cols = order[a:e]
                 run = np.column_stack([grid.xs[cols], np.full(len(cols), grid.ys[row]), np.full(len(cols), z)])
-                if inside and _link_clear(grid, ok, b.pts[-1][-1], run[0]):
-                    b.cut(_link(grid, b.pts[-1][-1], run[0], z), j, tolerance)
+                link = _link(grid, b.pts[-1][-1], run[0], z) if inside else None
+                if inside and _link_clear(grid, ok, link) and \
+                        stock.probe(np.vstack([b.pts[-1][-1:], link]), radius) <= limit + 1e-9:
+                    b.cut(link, j, tolerance)
                 else:
                     b.enter(run[0], j, z_top if j == 0 else levels[j - 1])
                 if len(run) > 1:
@@ -129,6 +142,7 @@ def zlevel_path(grid: Grid, floor: np.ndarray, levels: np.ndarray, tool: Tool, s
                 inside = True
         if inside:
             b.retract()
+            stock.stamp(np.vstack(b.pts)[start:], radius)
     return b.build("roughing (z-level)", tool, feed, plunge_feed, comments)
 
 
@@ -140,6 +154,6 @@ def _link(grid, p, q, z):
     return out
 
 
-def _link_clear(grid, ok, p, q) -> bool:
-    r, c = grid.index(*_link(grid, p, q, 0.0)[:, :2].T)
+def _link_clear(grid, ok, link) -> bool:
+    r, c = grid.index(*link[:, :2].T)
     return bool(ok[r, c].all())

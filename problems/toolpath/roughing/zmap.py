@@ -54,26 +54,46 @@ class StockZMap:
         self.grid = grid
         self.h = np.full((len(grid.ys), len(grid.xs)), float(z_top))
 
-    def _samples(self, tp: Toolpath):
-        seg = np.diff(tp.tip, axis=0)
+    def _samples(self, tip: np.ndarray):
+        """Sample points (k, 3), the index of the point each one moves to, sub-segment lengths."""
+        seg = np.diff(tip, axis=0)
         length = np.linalg.norm(seg, axis=1)
         flat = np.linalg.norm(seg[:, :2], axis=1)  # samples by XY length: the same XY spots each layer
         n = np.maximum(1, np.ceil(flat / (0.5 * self.grid.cell) - 1e-9)).astype(int)
         move = np.repeat(np.arange(len(seg)), n)
         k = np.arange(len(move)) - np.repeat(np.cumsum(n) - n, n) + 1
         t = (k / np.repeat(n, n))[:, None]
-        pts = tp.tip[move] + t * seg[move]
+        pts = tip[move] + t * seg[move]
         return pts, move + 1, (length / n)[move]
+
+    def _run(self, h: np.ndarray, pts: np.ndarray, radius: float):
+        depth, removed = np.zeros(len(pts)), np.zeros(len(pts))
+        g = self.grid
+        _cut(h, g.xs[0], g.ys[0], g.cell, radius, np.ascontiguousarray(pts[:, 0]),
+             np.ascontiguousarray(pts[:, 1]), np.ascontiguousarray(pts[:, 2]), depth, removed)
+        return depth, removed
+
+    def probe(self, tip: np.ndarray, radius: float) -> float:
+        """Deepest cut the polyline ``tip`` (k, 3) would take from the stock as it is now
+        (a dry run: the stock is not changed)."""
+        pts = self._samples(np.asarray(tip, float))[0]
+        r, c = self.grid.index(pts[:, 0], pts[:, 1])
+        n = int(np.ceil(radius / self.grid.cell)) + 1
+        r0, c0 = max(r.min() - n, 0), max(c.min() - n, 0)
+        win = self.h[r0:r.max() + n + 1, c0:c.max() + n + 1].copy()
+        shift = np.array([self.grid.xs[c0] - self.grid.xs[0], self.grid.ys[r0] - self.grid.ys[0], 0.0])
+        return float(self._run(win, pts - shift, radius)[0].max(initial=0.0))
+
+    def stamp(self, tip: np.ndarray, radius: float) -> None:
+        """Cut the polyline ``tip`` (k, 3) into the stock (no statistics)."""
+        self._run(self.h, self._samples(np.asarray(tip, float))[0], radius)
 
     def cut(self, tp: Toolpath, air_eps: float = 1e-3) -> dict:
         """Machine ``tp`` (a flat end mill: its tool radius, vertical axis); statistics."""
         if tp.multi_axis:
             raise ValueError("the Z-map simulates 3-axis (vertical axis) toolpaths only")
-        pts, point, ds = self._samples(tp)
-        depth, removed = np.zeros(len(pts)), np.zeros(len(pts))
-        g = self.grid
-        _cut(self.h, g.xs[0], g.ys[0], g.cell, 0.5 * tp.tool.diameter, pts[:, 0].copy(), pts[:, 1].copy(),
-             pts[:, 2].copy(), depth, removed)
+        pts, point, ds = self._samples(tp.tip)
+        depth, removed = self._run(self.h, pts, 0.5 * tp.tool.diameter)
         rapid = tp.rapid[point]
         feed = ~rapid
         section = tp.section[point]

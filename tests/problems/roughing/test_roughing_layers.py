@@ -82,3 +82,22 @@ def test_air_cutting_is_measured(case):
     assert b["removed_mm3"] == pytest.approx(a["removed_mm3"])
     repeat = sum(s["cutting_length"] for s in b["layers"][n:])
     assert b["air_length"] - a["air_length"] == pytest.approx(repeat, rel=1e-6)
+
+
+def test_zlevel_links_never_cut_deeper_than_the_depth_of_cut():
+    # concave-convex net: a diagonal link between raster lines crosses material the level
+    # above never reached; unchecked it cuts deeper than D_cut, probed it retracts instead
+    xs, ys = [0, 33, 67, 100], [0, 27, 53, 80]
+    z = [[40, 20, 0, 20], [20, -30, 70, 0], [0, 70, -30, 20], [20, 0, 20, 40]]
+    net = np.array([[[xs[i], ys[j], z[i][j]] for j in range(4)] for i in range(4)], float)
+    grid = Grid.over((0, 0), (100, 80), 0.5)
+    zs = height_field(BezierSurface(net), grid)
+    floor = floor_field(zs, grid, 6.0, 0.8)
+    z_top, d_cut = zs.max() + 5, 2.0
+    levels = z_levels(floor, z_top, layer_count(z_top, zs.min(initial=np.inf, where=np.isfinite(zs)), 0.5, 0.3, d_cut))
+    kw = dict(z_top=z_top, safe_z=z_top + 10, feed=800, plunge_feed=300)
+    tool = Tool(1, 12.0, 0.0, 6000)
+    unchecked = StockZMap(grid, z_top).cut(zlevel_path(grid, floor, levels, tool, 7.2, **kw))
+    checked = StockZMap(grid, z_top).cut(zlevel_path(grid, floor, levels, tool, 7.2, d_cut=d_cut, **kw))
+    assert unchecked["max_depth"] > d_cut >= checked["max_depth"]
+    assert checked["removed_mm3"] == pytest.approx(unchecked["removed_mm3"], rel=0.02)
