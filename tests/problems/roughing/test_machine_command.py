@@ -90,3 +90,36 @@ def test_bad_input_is_one_line_exit_2_no_files(tmp_path, case):
     lines = proc.stderr.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("evoplan: error: ") and words in lines[0], proc.stderr
     assert not (tmp_path / "out").exists()
+
+
+RUN_CONFIG = """seed: 1
+problem:
+  name: toolpath
+  params:
+    surface:
+      type: bezier
+      poles:
+        - [[0, 0, 0], [0, 15, 4], [0, 30, {z}]]
+        - [[20, 0, 4], [20, 15, 14], [20, 30, 4]]
+        - [[40, 0, 0], [40, 15, 4], [40, 30, 0]]
+    feed_rate: 1500
+"""
+
+
+def test_finish_from_a_finished_run(tmp_path):
+    run = tmp_path / "run"
+    run.mkdir()
+    (run / "best.json").write_text(json.dumps(
+        {"objective": 0.1, "variables": {"tool": 9, "stepover": 35.0, "lead": 1.0, "tilt": 0.5, "step": 7.0}}))
+    (run / "config.yaml").write_text(RUN_CONFIG.format(z=0))
+    proc = machine(tmp_path, config(tmp_path, dialect="fanuc", limits="[-90, 90]"), "--out", tmp_path / "out",
+                   "--from-run", run)
+    assert proc.returncode == 0, proc.stderr
+    finish = json.loads((tmp_path / "out" / "summary.json").read_text())["finish"]
+    assert finish["from_run"] and finish["params"] == {"tool": 9, "stepover": 35.0, "lead": 1.0, "tilt": 0.5,
+                                                        "step": 7.0}
+    apt = read_apt(tmp_path / "out" / "finish.apt")
+    assert apt.diameter == 16 and np.nanmax(apt.feed) == 1500          # the run's tool and feed rate
+    (run / "config.yaml").write_text(RUN_CONFIG.format(z=9))         # another surface
+    proc = machine(tmp_path, config(tmp_path, dialect="fanuc"), "--out", tmp_path / "out2", "--from-run", run)
+    assert proc.returncode == 2 and "another surface" in proc.stderr and not (tmp_path / "out2").exists()

@@ -7,6 +7,11 @@ is the tool tip in part coordinates), unwind/reposition moves where the angles w
 modal words (a coordinate or feed is written only when it changes), and reading a program
 back (``read``) so that every line written is checked by a grammar.
 
+The reader is a small strict grammar of our own rather than a general G-code library: a
+word-address parser would accept many lines the posts never write, and would not read
+Heidenhain's conversational blocks at all; a grammar of exactly what is written turns any
+malformed or foreign line into an error, which is what the round-trip tests need.
+
 A dialect subclasses :class:`Post`, sets ``name``/``five_axis``, writes ``header``,
 ``block`` and ``footer``, and parses its own lines in ``parse_line``; ``@register`` adds it
 to ``POSTS``.
