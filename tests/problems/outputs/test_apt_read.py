@@ -95,3 +95,14 @@ def test_non_utf8_names_its_line(tmp_path):
     (tmp_path / "bin.apt").write_bytes(b"CUTTER/6\nGOTO/1,2,3\n$$ caf\xe9\n")
     with pytest.raises(AptError, match=r"^LINE 3: not UTF-8"):
         read_apt(tmp_path / "bin.apt")
+
+
+def test_centre_programmed_paths_say_so(tmp_path):
+    tip, axis, passes = _path(np.random.default_rng(2), m=8)
+    text = apt_program(tip, axis, passes, diameter=10, corner_radius=5, feed_rate=900, tip_is_centre=True)
+    assert "$$ TOOLPOINT CENTRE" in text.splitlines()
+    (tmp_path / "c.apt").write_text(text)
+    tp = read_apt(tmp_path / "c.apt")
+    assert tp.tip_is_centre and tp.feed[1] == 450          # default plunge feed: half the feed
+    (tmp_path / "c.apt").write_text(text.replace("$$ TOOLPOINT CENTRE\n", ""))
+    assert not read_apt(tmp_path / "c.apt").tip_is_centre

@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 from stl import mesh as stl_mesh
 
+from evoplan.cli import main as cli_main
 from evoplan.problems.toolpath.outputs.apt_read import read_apt
 from evoplan.problems.toolpath.outputs.kinematics import Kinematics, Rotary
 from evoplan.problems.toolpath.outputs.posts import POSTS, Machine
@@ -83,12 +84,12 @@ BAD = {
 
 
 @pytest.mark.parametrize("case", sorted(BAD))
-def test_bad_input_is_one_line_exit_2_no_files(tmp_path, case):
+def test_bad_input_is_one_line_exit_2_no_files(tmp_path, case, capsys):
     kw, words = BAD[case]
-    proc = machine(tmp_path, config(tmp_path, **kw), "--out", tmp_path / "out")
-    assert proc.returncode == 2, proc.stderr
-    lines = proc.stderr.strip().splitlines()
-    assert len(lines) == 1 and lines[0].startswith("evoplan: error: ") and words in lines[0], proc.stderr
+    code = cli_main(["machine", str(config(tmp_path, **kw)), "--out", str(tmp_path / "out")])
+    assert code == 2
+    lines = capsys.readouterr().err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("evoplan: error: ") and words in lines[0], lines
     assert not (tmp_path / "out").exists()
 
 
@@ -106,20 +107,21 @@ problem:
 """
 
 
-def test_finish_from_a_finished_run(tmp_path):
+def test_finish_from_a_finished_run(tmp_path, capsys):
     run = tmp_path / "run"
     run.mkdir()
     (run / "best.json").write_text(json.dumps(
         {"objective": 0.1, "variables": {"tool": 9, "stepover": 35.0, "lead": 1.0, "tilt": 0.5, "step": 7.0}}))
     (run / "config.yaml").write_text(RUN_CONFIG.format(z=0))
-    proc = machine(tmp_path, config(tmp_path, dialect="fanuc", limits="[-90, 90]"), "--out", tmp_path / "out",
-                   "--from-run", run)
-    assert proc.returncode == 0, proc.stderr
+    code = cli_main(["machine", str(config(tmp_path, dialect="fanuc")), "--out", str(tmp_path / "out"),
+                     "--from-run", str(run)])
+    assert code == 0
     finish = json.loads((tmp_path / "out" / "summary.json").read_text())["finish"]
     assert finish["from_run"] and finish["params"] == {"tool": 9, "stepover": 35.0, "lead": 1.0, "tilt": 0.5,
                                                         "step": 7.0}
     apt = read_apt(tmp_path / "out" / "finish.apt")
     assert apt.diameter == 16 and np.nanmax(apt.feed) == 1500          # the run's tool and feed rate
     (run / "config.yaml").write_text(RUN_CONFIG.format(z=9))         # another surface
-    proc = machine(tmp_path, config(tmp_path, dialect="fanuc"), "--out", tmp_path / "out2", "--from-run", run)
-    assert proc.returncode == 2 and "another surface" in proc.stderr and not (tmp_path / "out2").exists()
+    code = cli_main(["machine", str(config(tmp_path, dialect="fanuc")), "--out", str(tmp_path / "out2"),
+                     "--from-run", str(run)])
+    assert code == 2 and "another surface" in capsys.readouterr().err and not (tmp_path / "out2").exists()
