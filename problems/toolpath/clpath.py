@@ -72,6 +72,21 @@ class CLPath:
         """(m - 1,) bool: move i (point i -> i + 1) is a feed move inside one section."""
         return self.section[1:] == self.section[:-1]
 
+    @classmethod
+    def from_apt(cls, apt) -> "CLPath":
+        """The path of an APT CL file read by ``outputs.apt_read.read_apt``: a RAPID move
+        starts a new section (it does not cut); a file whose points are the tool centre
+        (``$$ TOOLPOINT CENTRE``) is moved down the axis by the corner radius to the tip."""
+        tip = np.asarray(apt.tip, float)
+        axis = np.asarray(apt.axis, float)
+        if apt.tip_is_centre:
+            tip = tip - apt.corner_radius * axis
+        section = np.cumsum(np.asarray(apt.rapid, bool))
+        feed = np.asarray(apt.feed, float)
+        rate = float(np.nanmax(feed)) if np.isfinite(feed).any() else 1000.0
+        return cls(tip, axis, float(apt.diameter), float(apt.corner_radius), section=section,
+                   pass_index=np.asarray(apt.section), feed_rate=rate)
+
     def feed_length(self) -> float:
         """Length (mm) of the feed moves, tip travel: what the machine cuts along."""
         seg = np.linalg.norm(np.diff(self.tip, axis=0), axis=1)

@@ -181,6 +181,20 @@ class ToolpathProblem(Problem):
         """The CC pattern (``simulator.CCPattern``) of one parameter set (mapping or row)."""
         return self.simulator.pattern(self.row(params)[0])
 
+    @property
+    def surface(self):
+        """The part's design surface."""
+        return self.simulator.surface
+
+    @property
+    def simulation_tolerance(self) -> float:
+        """The tolerance band of a simulated cut's deviation map: the cut tolerance (mm)."""
+        return self.simulator.tolerance
+
+    def cl_path(self, params):
+        """(CLPath, None): the toolpath of one parameter set as the machine runs it (no zones)."""
+        return self.simulator.cl_path(self.row(params)[0]), None
+
     def artifacts(self, x) -> dict[str, bytes]:
         """Result files of one parameter set ``x: (5,)`` (a phenotype row, tool as its index):
         the CC pattern on the surface (Fountas Fig. 2 analog) and the APT CL program."""

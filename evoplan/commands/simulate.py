@@ -1,0 +1,146 @@
+"""``evoplan simulate``: cut a toolpath in simulation and measure what it leaves on the part.
+
+Three ways to name the toolpath, over the surface of a run file's toolpath problem:
+
+    evoplan simulate CONFIG --set tool=6 --set stepover=41.729 ... [--out DIR]   # a parameter set
+    evoplan simulate --run DIR [--out DIR2]                       # the best plan of a finished run
+    evoplan simulate CONFIG --apt FILE [--out DIR]                # an outside APT CL file
+
+Writes ``simulation.json`` (scallop max / mean / p50 / p90 / p99, gouge max and area, uncut
+fraction, grid, CL points, seconds, per-zone figures), ``deviation_map.png`` and
+``deviation_hist.png`` into the folder, all or nothing, and prints the JSON.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import time
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import ConfigError, EvoplanError
+from .evaluate import parse_assignments
+
+
+def add_parser(sub) -> argparse.ArgumentParser:
+    p = sub.add_parser("simulate", help="cut a toolpath in simulation and measure scallop and gouge")
+    p.add_argument("config", nargs="?", help="YAML run file whose toolpath problem gives the surface")
+    src = p.add_mutually_exclusive_group()
+    src.add_argument("--set", dest="values", action="append", default=[], metavar="NAME=VALUE",
+                     help="a parameter of the plan (repeat for each)")
+    src.add_argument("--run", help="a finished run's results folder: simulate its best plan")
+    src.add_argument("--apt", help="an APT CL file (GOTO/x,y,z[,i,j,k], CUTTER/, MULTAX)")
+    p.add_argument("--out", help="folder for simulation.json and the figures (default: results/simulate-<time>)")
+    p.add_argument("--grid", type=float, default=0.1, metavar="MM", help="cell size (default 0.1 mm)")
+    p.add_argument("--rays", choices=["normal", "vertical"], default="normal",
+                   help="measure along the design-surface normal (default) or vertically")
+    p.add_argument("--tolerance", type=float, metavar="MM",
+                   help="tolerance band of the map (default: the problem's tolerance or h_c)")
+    p.add_argument("--allowance", type=float, default=0.5, metavar="MM",
+                   help="finishing stock left where no pose reaches (default 0.5 mm)")
+    return p
+
+
+def _memory_limit() -> float:
+    """Half the machine's memory: a grid above it is refused before it is allocated."""
+    try:
+        return 0.5 * os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
+    except (ValueError, OSError, AttributeError):
+        return 8.0 * 2**30
+
+
+def _problem_and_plan(args):
+    from ..runner import prepare_file
+
+    if args.run:
+        run = Path(args.run)
+        for name in ("config.yaml", "best.json"):
+            if not (run / name).is_file():
+                raise ConfigError(f"{run}: no {name}: not a finished run's results folder")
+        config = str(run / "config.yaml")
+        try:
+            best = json.loads((run / "best.json").read_text(encoding="utf-8"))
+        except (OSError, UnicodeDecodeError, json.JSONDecodeError) as e:
+            raise ConfigError(f"{run / 'best.json'}: unreadable ({e})") from None
+        params = best.get("variables")
+        if not isinstance(params, dict):
+            raise ConfigError(f"{run / 'best.json'}: variables: the run has no best solution")
+    else:
+        if not args.config:
+            raise EvoplanError("simulate: give a run file CONFIG (with --set or --apt), or --run DIR")
+        config, params = args.config, None
+    prepared = prepare_file(config)
+    problem = prepared.evaluator.problem
+    if not callable(getattr(problem, "cl_path", None)):
+        raise ConfigError(f"{config}: problem: {prepared.config.problem.name!r} makes no toolpath "
+                          "to simulate (use a toolpath problem)")
+    if args.apt:
+        from ..problems.toolpath.outputs.apt_read import AptError, read_apt
+        from ..problems.toolpath.clpath import CLPath
+
+        try:
+            apt = read_apt(args.apt)
+            path = CLPath.from_apt(apt)
+        except AptError as e:
+            raise ConfigError(f"{args.apt}: {e}") from None
+        except (OSError, ValueError) as e:
+            raise ConfigError(f"{args.apt}: {e}") from None
+        return config, problem, path, None, f"APT file {Path(args.apt).name}"
+    if params is None:
+        if not args.values:
+            raise EvoplanError(f"{config}: give the plan's parameters with --set NAME=VALUE, "
+                               "or --run DIR, or --apt FILE")
+        params = parse_assignments(args.values)
+    try:
+        path, labels = problem.cl_path(params)
+    except ValueError as e:
+        raise ConfigError(f"{config}: {e}") from None
+    label = ", ".join(f"{k} {v:g}" if isinstance(v, float) else f"{k} {v}" for k, v in params.items())
+    return config, problem, path, labels, label
+
+
+def main(args: argparse.Namespace) -> int:
+    from ..engine import write_atomic
+    from ..problems.toolpath.simulation import design_grid, simulate
+    from ..problems.toolpath.simulation.figures import deviation_hist_png, deviation_map_png
+
+    for name in ("grid", "allowance") + (("tolerance",) if args.tolerance is not None else ()):
+        value = getattr(args, name)
+        if not (np.isfinite(value) and value > 0):
+            raise EvoplanError(f"--{name} {value}: must be a positive number of mm")
+    out = Path(args.out or Path("results") / f"simulate-{time.strftime('%Y%m%d-%H%M%S')}")
+    if out.exists() and (not out.is_dir() or any(out.iterdir())):
+        raise EvoplanError(f"{out}: already exists and is not empty: choose another --out")
+    config, problem, path, labels, label = _problem_and_plan(args)
+    tolerance = args.tolerance or float(getattr(problem, "simulation_tolerance", 0.01))
+    t0 = time.perf_counter()
+    try:
+        grid = design_grid(problem.surface, args.grid, max_bytes=_memory_limit())
+        sim = simulate(path, grid, vertical=args.rays == "vertical", allowance=args.allowance,
+                       mesh_labels=labels)
+    except ValueError as e:
+        raise ConfigError(f"{args.apt or config}: {e}") from None
+    seconds = time.perf_counter() - t0
+    record = {"plan": label, **sim.summary(path, seconds)}
+    title = f"{label}\nscallop max {sim.metrics['scallop_max_mm']:.4f} mm, p99 " \
+            f"{sim.metrics['scallop_p99_mm']:.4f} mm, gouge max {sim.metrics['gouge_max_mm']:.4f} mm"
+    files = {
+        "simulation.json": (json.dumps(record, indent=2) + "\n").encode(),
+        "deviation_map.png": deviation_map_png(grid, sim.residual.values, tolerance=tolerance,
+                                               allowance=args.allowance, labels=sim.labels,
+                                               title=title),
+        "deviation_hist.png": deviation_hist_png(grid, sim.residual.values, tolerance=tolerance,
+                                                 allowance=args.allowance),
+    }
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+        for name, data in files.items():
+            write_atomic(out / name, data)
+    except OSError as e:
+        raise EvoplanError(f"{out}: cannot write the results ({e.strerror or e})") from None
+    print(json.dumps(record, indent=2))
+    print(f"evoplan: simulation written to {out}", flush=True)
+    return 0
