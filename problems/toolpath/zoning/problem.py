@@ -22,7 +22,7 @@ from ..checks import interval, number
 from ..spec import parse_surface
 from ..tools import parse_tools
 from .features import check_mesh, mesh_features
-from .plan import plan_from_labels, zone_labels
+from .plan import ZoningPlan, plan_from_labels, zone_labels
 from .samples import sample_surface
 from .stepover import Cutter3Axis
 
@@ -85,19 +85,51 @@ class ZonedToolpathProblem(Problem):
         t = self.tool_db.tools[int(tool_index)]
         return Cutter3Axis(t.radius, t.corner_radius, self.h_c)
 
+    def labels(self, value: float) -> np.ndarray:
+        """Zone labels on the mesh for one value of the zoning gene (memoized)."""
+        value = int(round(value)) if self.gene == "zones" else round(float(value), 9)
+        if value not in self._labels:
+            if self.gene == "zones":
+                labels, _ = zone_labels(self.features, "kmeans", k=value)
+            else:
+                labels, _ = zone_labels(self.features, "amas", k_cmd=self.k_cmd,
+                                        k_lz=value, seed=self.seed)
+            self._labels[value] = labels
+        return self._labels[value]
+
+    def zoning_plan(self, tool_index: int, value: float) -> ZoningPlan:
+        """The whole plan (zones, directions, planes) of one decoded gene pair."""
+        labels = self.labels(value)
+        zones, seconds = plan_from_labels(self.samples, self.features, labels,
+                                          self.cutter(tool_index), self.model)
+        return ZoningPlan(self.method, labels, zones, self.delta_l, {"directions": seconds},
+                          features=self.features)
+
+    @property
+    def simulation_tolerance(self) -> float:
+        """The tolerance band of a simulated cut's deviation map: h_c (mm)."""
+        return self.h_c
+
+    def cl_path(self, params, step: float = 1.0, placement: str = "drop"):
+        """(CLPath, mesh labels) of one plan given by name (``tool`` = the tool id, and
+        ``zones`` or ``k_lz``): every zone's passes as CL points of the vertical cutter."""
+        from ..cutters import cutter_from_tool
+        from .cl_points import zone_cl_path
+
+        missing = [k for k in ("tool", self.gene) if k not in params]
+        if missing:
+            raise ValueError(f"params.{missing[0]}: missing")
+        index = self.tool_db.index_of(params["tool"])
+        plan = self.zoning_plan(index, number(params[self.gene], f"params.{self.gene}"))
+        cutter = cutter_from_tool(self.tool_db.tools[index])
+        return zone_cl_path(self.surface, plan, cutter, step=step, placement=placement), plan.labels
+
     def plan(self, tool_index: int, value: float) -> dict[str, float]:
         """Raw numbers of one decoded gene pair (memoized)."""
         value = int(round(value)) if self.gene == "zones" else round(float(value), 9)
         key = (int(tool_index), value)
         if key not in self._plans:
-            if value not in self._labels:
-                if self.gene == "zones":
-                    labels, _ = zone_labels(self.features, "kmeans", k=value)
-                else:
-                    labels, _ = zone_labels(self.features, "amas", k_cmd=self.k_cmd,
-                                            k_lz=value, seed=self.seed)
-                self._labels[value] = labels
-            labels = self._labels[value]
+            labels = self.labels(value)
             zones, _ = plan_from_labels(self.samples, self.features, labels,
                                         self.cutter(tool_index), self.model)
             cutting = float(sum(z.length for z in zones))
