@@ -15,7 +15,10 @@ three or more variants are tested.
 differences paired by repetition, the posterior probabilities that the variant is better
 (lower), practically equivalent (within ``rope``, in objective units; only when ``rope > 0``)
 or worse than the reference. It states how likely each outcome is, rather than whether a
-null hypothesis is rejected; with ``rope = 0`` there is no equivalence region.
+null hypothesis is rejected. With ``rope = 0`` there is no equivalence region and a zero
+difference counts half for each side, so on data with many ties (runs that all reach the same
+value) a single non-zero difference decides the outcome: set ``statistics.rope`` (in objective
+units) for such problems.
 """
 
 from __future__ import annotations
