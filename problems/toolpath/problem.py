@@ -72,14 +72,17 @@ class ToolpathProblem(Problem):
     ``feed_angle`` degrees from +X (0), ``ranges`` {stepover, lead, tilt, step: [lo, hi]},
     ``allowance`` finishing stock mm (0.5), ``normalization`` explicit {criterion: [lo, hi]},
     ``normalization_samples`` / ``seed`` for the fixed normalization design, ``objectives``
-    a list of criteria for a multi-objective F, ``base_dir`` for relative pole files.
+    a list of criteria for a multi-objective F, ``base_dir`` for relative pole files,
+    ``criteria`` ``analytic`` (default) or ``simulated`` (scallop, gouge and machining error
+    measured by the cut simulation, ``simulation/criteria.py``, with ``simulation``
+    settings {grid_mm, rays, allowance}; the normalization design is simulated too).
     Bad input raises a one-line ValueError starting with the key path.
     """
 
     def __init__(self, surface="fountas", tools=None, weights=None, feed_rate=1000.0,
                  tolerance=0.01, feed_angle=0.0, ranges=None, allowance=0.5,
                  normalization=None, normalization_samples=64, seed=0, objectives=None,
-                 base_dir=None, max_rounds=6):
+                 base_dir=None, max_rounds=6, criteria="analytic", simulation=None):
         surf = parse_surface(surface, "surface", base_dir)
         self.tool_db = parse_tools(tools, "tools")
         self.weights = parse_weights(weights, "weights")
@@ -99,6 +102,15 @@ class ToolpathProblem(Problem):
             tolerance=number(tolerance, "tolerance", positive=True),
             feed_rate=number(feed_rate, "feed_rate", positive=True),
             allowance=number(allowance, "allowance", positive=True), max_rounds=int(max_rounds))
+        if criteria not in ("analytic", "simulated"):
+            raise ValueError(f"criteria: expected analytic or simulated, got {criteria!r}")
+        self.simulated = None
+        if criteria == "simulated":
+            from .simulation.criteria import SimulatedCriteria
+
+            self.simulated = SimulatedCriteria(surf, simulation)
+        elif simulation is not None:
+            raise ValueError("simulation: only used with criteria: simulated")
         n_tools = len(self.tool_db)
         xl = np.array([0.0] + [self.ranges[k][0] for k in PARAM_NAMES[1:]])
         xu = np.array([float(n_tools - 1)] + [self.ranges[k][1] for k in PARAM_NAMES[1:]])
@@ -111,7 +123,7 @@ class ToolpathProblem(Problem):
         missing = [k for k in names if k not in given]
         if missing:
             design = normalization_design(n_tools, xl, xu, int(normalization_samples), int(seed))
-            given.update(bounds_from_sample(self.simulator.criteria(design), missing))
+            given.update(bounds_from_sample(self._raw_criteria(design), missing))
         self.norm_bounds = {k: given[k] for k in names}
         super().__init__(n_var=5, n_obj=1 if objectives is None else len(objectives),
                          xl=xl, xu=xu, vtype=float, vars=self.variables)
@@ -165,9 +177,22 @@ class ToolpathProblem(Problem):
         x += [number(params[name], f"params.{name}") for name in PARAM_NAMES[1:]]
         return self.check(np.array([x]))
 
+    def _raw_criteria(self, X) -> dict[str, np.ndarray]:
+        """The analytic criteria of X (n, 5), with the simulated ones in place of the
+        analytic scallop, gouge and machining error under ``criteria: simulated``."""
+        crit = self.simulator.criteria(X)
+        if self.simulated is not None and len(X):
+            rows = []
+            for x in X:
+                flat = self.tool_db.tools[int(round(x[0]))].type == "flat"
+                rows.append(self.simulated.measure(self.simulator.cl_path(x), flat))
+            for name in rows[0]:
+                crit[name] = np.array([row[name] for row in rows])
+        return crit
+
     def criteria(self, X) -> dict[str, np.ndarray]:
         """Every raw criterion per row of X (n, 5), plus ``objective`` (Eq. 9): dict of (n,)."""
-        crit = self.simulator.criteria(self.check(X))
+        crit = self._raw_criteria(self.check(X))
         crit["objective"] = weighted_sum(crit, self.weights, self.norm_bounds) if self.objectives is None \
             else np.full(len(crit["cc_count"]), np.nan)
         return crit
@@ -214,7 +239,7 @@ class ToolpathProblem(Problem):
         return {"cc_pattern.png": png, "toolpath.apt": apt.encode()}
 
     def _evaluate(self, X, out, *args, **kwargs):
-        crit = self.simulator.criteria(self.check(X))
+        crit = self._raw_criteria(self.check(X))
         if self.objectives is None:
             out["F"] = weighted_sum(crit, self.weights, self.norm_bounds)[:, None]
         else:

@@ -101,3 +101,22 @@ def test_bad_arguments_get_one_line(args, tmp_path, capsys):
     code = main(["simulate", str(RUN), *base, *args, "--out", str(out)])
     err = capsys.readouterr().err.strip()
     assert code == 2 and not out.exists() and "\n" not in err
+
+
+def test_simulated_criteria_are_the_cut_simulation_of_the_plan():
+    from evoplan.problems.toolpath.simulation import design_grid, simulate
+
+    norm = {"machining_error": [0, 0.5], "cc_count": [0, 1000]}
+    pr = ToolpathProblem(criteria="simulated", simulation={"grid_mm": 1.0}, normalization=norm)
+    x = pr.row(PARAMS)
+    crit = pr.criteria(x)
+    sim = simulate(pr.cl_path(PARAMS)[0], design_grid(pr.surface, 1.0))
+    assert crit["scallop_max"][0] == pytest.approx(sim.metrics["scallop_max_mm"])
+    assert crit["gouge_max"][0] == pytest.approx(sim.metrics["gouge_max_mm"])
+    assert crit["machining_error"][0] == max(crit["scallop_max"][0], crit["gouge_max"][0])
+    F = pr.evaluate(x)
+    assert np.isfinite(F).all()
+    with pytest.raises(ValueError, match="simulation.rays"):
+        ToolpathProblem(criteria="simulated", simulation={"rays": "sideways"}, normalization=norm)
+    with pytest.raises(ValueError, match="criteria"):
+        ToolpathProblem(criteria="dreamed", normalization=norm)
