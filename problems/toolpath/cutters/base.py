@@ -25,6 +25,9 @@ from abc import ABC, abstractmethod
 
 import numpy as np
 
+from ..effective_radius import effective_radius, effective_radius_3axis, effective_radius_lead_tilt
+from .drop import drop_cutter
+
 __all__ = ["Cutter", "CUTTERS", "register", "make_cutter", "cutter_from_tool", "cutter_names"]
 
 CUTTERS: dict[str, type["Cutter"]] = {}
@@ -166,31 +169,23 @@ class Cutter(ABC):
         parametric surface: max over surface points q within R of (z_q - height(rho_q)),
         refined to ~1e-9 mm (``drop.py``). ``return_contact``: also the contact (u, v) (k, 2).
         """
-        from .drop import drop_cutter
-
         return drop_cutter(self, surface, xy, return_contact=return_contact, **options)
 
     def effective_radius(self, a_dot_t, a_dot_n):
         """R_eff = (R - r)(a.t)^2 / (1 - (a.n)^2)^(3/2) + r: the curvature radius at the contact
         of the cutter's silhouette projected along the feed t (a axis, n normal); inf where
         the flat bottom cuts (Redonnet et al. 2013; Djebali Sec. 2.2)."""
-        from ..effective_radius import effective_radius
-
         return effective_radius(self.radius, self.corner_radius, a_dot_t, a_dot_n)
 
     def effective_radius_lead_tilt(self, lead, tilt):
         """5-axis R_eff at lead aL, tilt aT (radians): the general form with a.t = sin aL,
         a.n = cos aL cos aT: (R - r) sin^2 aL / (1 - cos^2 aL cos^2 aT)^(3/2) + r."""
-        from ..effective_radius import effective_radius_lead_tilt
-
         return effective_radius_lead_tilt(self.radius, self.corner_radius, lead, tilt)
 
     def effective_radius_3axis(self, slope, steepest, alpha):
         """3-axis R_eff (Djebali Eq. 1): (R - r) cos^2(alpha - phi) /
         (sin S (1 - sin^2(alpha - phi) sin^2 S)) + r; S slope, phi steepest direction,
         alpha feed direction (radians)."""
-        from ..effective_radius import effective_radius_3axis
-
         return effective_radius_3axis(self.radius, self.corner_radius, slope, alpha, steepest)
 
     def apt_cutter(self) -> str:
