@@ -150,12 +150,16 @@ def evaluator_for(problem, config, source: str) -> Evaluator:
 
     A problem with several objectives needs an algorithm that reads vectors (``nsga2``,
     ``nsga3``, ``sms_emoa``), evaluated serially (the vectors are collected in this process);
-    anything else is a one-line :class:`~evoplan.errors.ConfigError`.
+    anything else is a one-line :class:`~evoplan.errors.ConfigError`. An algorithm from an
+    extra that is not installed is a one-line error here too, before any file is written.
     """
     from .config import REGISTRY
     from .errors import ConfigError
+    from .extras import require
 
     algo_cls, _ = REGISTRY[config.algorithm.name]
+    if getattr(algo_cls, "extra", None):
+        require(*algo_cls.extra)
     multi = bool(getattr(algo_cls, "multi_objective", False))
     if problem.n_obj == 1:
         if multi:

@@ -149,7 +149,7 @@ class DaskPool:
         try:
             from distributed import Client, LocalCluster
         except ImportError:
-            raise EvoplanError("the dask backend needs the distributed package: pip install 'dask[distributed]'") from None
+            raise EvoplanError("the dask backend needs the distributed package: pip install \"evoplan[dask]\"") from None
         self.cluster = None
         if scheduler:
             try:

@@ -72,7 +72,7 @@ def pareto_png(front: pd.DataFrame, names: list[str], weights: dict[str, float],
             label=f"lowest Eq. 9 weighted sum\n({w}, normalized)")
     for axis, col in zip("xy", cols):
         name = col.removeprefix("F_")
-        text = label(name) if col in front and not col.startswith("F_") else f"{name.replace('_', ' ')} (normalized)"
+        text = label(name) if not col.startswith("F_") else f"{name.replace('_', ' ')} (objective value)"
         (ax.set_xlabel if axis == "x" else ax.set_ylabel)(text)
         plain_numbers(ax, axis)
     ax.set_title(title)

@@ -44,7 +44,9 @@ class BBOB(Problem):
     @property
     def ioh(self):
         if self._ioh is None:
-            import ioh
+            from ..extras import require
+
+            ioh = require("ioh", "bbob", "BBOB problems")
 
             self._ioh = ioh.get_problem(self.function, instance=self.instance, dimension=self.n_var,
                                         problem_class=ioh.ProblemClass.BBOB)

@@ -4,7 +4,7 @@ Fountas et al. Eq. 1-3: rho_i = 2 sin(theta/2) / L_i (Eq. 1, the curvature of th
 through two points whose normals differ by theta), L_i the 3D chord (Eq. 2), and
 C_e = rho - sqrt(rho^2 - (L/2)^2) (Eq. 3). Eq. 3 as printed mixes a curvature with a radius
 and takes the square root of a negative number for realistic data; it is NOT implemented.
-The sagitta it means (toolpath_formulas.md) is
+The sagitta it means (docs/toolpath_formulas.md) is
 
     R_c = L / (2 sin(theta/2)),  C_e = R_c - sqrt(R_c^2 - L^2/4) = (L/2) tan(theta/4) ~ kappa L^2/8
 

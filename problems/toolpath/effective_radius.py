@@ -2,13 +2,13 @@
 
 R_eff is the radius of curvature, at the contact point, of the tool's silhouette projected
 along the feed onto the plane normal to the feed (Redonnet et al. 2013; Djebali et al.
-Sec. 2.2). The forms below are the ones ``toolpath_formulas.md`` verified; Fountas Eq. 4 is
+Sec. 2.2). The forms below are the ones ``docs/toolpath_formulas.md`` verified; Fountas Eq. 4 is
 kept only for comparison (it agrees at tilt 0 and is wrong with tilt).
 
 Notation: R cutter radius, r corner radius (0 flat-end, R ball, between: toroidal),
 a unit tool axis, t unit feed tangent, n unit surface normal (tool side).
 
-Accuracy (toolpath_formulas.md): against a Z-map of the swept tool, the R_eff circle is
+Accuracy (docs/toolpath_formulas.md): against a Z-map of the swept tool, the R_eff circle is
 within 2-4 % for ball-end tools but only approximate (15-30 % off) for flat-end and toroidal
 tools, whose true cross-feed profile is an ellipse (offset by r). The simulator therefore
 computes scallops from the exact projected profile (``scallop.py``), whose curvature at the
@@ -35,7 +35,7 @@ _EPS = 1e-14
 
 
 def effective_radius(R, r, a_dot_t, a_dot_n):
-    """General form: R_eff = (R - r) (a.t)^2 / (1 - (a.n)^2)^(3/2) + r (toolpath_formulas.md).
+    """General form: R_eff = (R - r) (a.t)^2 / (1 - (a.n)^2)^(3/2) + r (docs/toolpath_formulas.md).
 
     Arrays broadcast; returns inf where the flat bottom cuts (a = n and r < R).
     """

@@ -44,7 +44,7 @@ __all__ = [
 # -------------------------------------------------------------------------------------
 
 def flat_scallop(r_eff, w):
-    """Cusp height on a plane: h = R_eff - sqrt(R_eff^2 - w^2/4) (toolpath_formulas.md).
+    """Cusp height on a plane: h = R_eff - sqrt(R_eff^2 - w^2/4) (docs/toolpath_formulas.md).
 
     Written as (w^2/4) / (R_eff + sqrt(R_eff^2 - w^2/4)) (no cancellation); R_eff = inf
     gives 0; w/2 > R_eff gives nan (the circle does not reach).
@@ -62,7 +62,7 @@ def scallop_height(r_eff, w, kappa):
     h = (w^2/4) [ kappa/(1 + cos th) + (1/R - 2 kappa) / (cos th + sqrt(1 - X^2)) ],
     sin th = w kappa / 2, X = (w/2)(1/R - kappa); measured along the bisector normal.
     Limits: flat h = R - sqrt(R^2 - w^2/4); to first order convex (kappa = -1/rho)
-    (w^2/8)(1/R + 1/rho), concave (w^2/8)(1/R - 1/rho) (toolpath_formulas.md). R_eff = inf
+    (w^2/8)(1/R + 1/rho), concave (w^2/8)(1/R - 1/rho) (docs/toolpath_formulas.md). R_eff = inf
     (flat bottom) is allowed: h = -kappa w^2/8 to first order. Negative h: gouge.
     """
     r_eff, w, k = np.broadcast_arrays(*(np.asarray(x, float) for x in (r_eff, w, kappa)))
@@ -76,7 +76,7 @@ def scallop_height(r_eff, w, kappa):
 def stepover_djebali_eq2(h, r_eff, rho, convex=True):
     """Djebali et al. Eq. 2: P_t = sqrt(8 h R_eff (R_eff + rho) / rho), rho a RADIUS (mm).
 
-    This is the spacing of the tool centres on a convex section (toolpath_formulas.md);
+    This is the spacing of the tool centres on a convex section (docs/toolpath_formulas.md);
     concave uses (rho - R_eff)/rho. Example: h 0.01, R_eff 6, rho 30 -> 0.7589 mm.
     """
     h, r, rho = (np.asarray(x, float) for x in (h, r_eff, rho))

@@ -9,9 +9,8 @@ Sign convention (used throughout the simulator): the unit normal points to the t
 (``+z`` for the shipped surfaces: the tool comes from above), and a normal curvature is
 ``II(d, d) / I(d, d)`` with that normal, so **kappa > 0 means the surface bends towards the
 tool (concave seen from the tool)** and kappa < 0 convex. This is the sign of the reference
-value in ``toolpath_formulas.md`` (Fountas' surface at (0.7, 0.5): +0.0159 /mm across an X
-feed, concave); the notation line of that document states the opposite sign, its number
-follows this one.
+value in ``docs/toolpath_formulas.md`` (Fountas' surface at (0.7, 0.5): +0.0159 /mm across an
+X feed, concave).
 
 Shipped surfaces:
 

@@ -30,7 +30,7 @@ Speed: the spacing on a plane depends only on |t_z| and |beta|, so it is solved 
 cutter on a 129 x 129 table (``ProfileTable``, cached) and read by bilinear interpolation.
 The surface curvature across the feed enters to second order through the secant radius of
 the profile, R_s = (w/2)^2 / (2 h_c): w_kappa = w / sqrt(1 - kappa R_s), the circle model's
-correction (toolpath_formulas.md) applied to the true profile; 1 - kappa R_s <= 0 (a
+correction (docs/toolpath_formulas.md) applied to the true profile; 1 - kappa R_s <= 0 (a
 concave section tighter than the profile) leaves the physical cap.
 """
 

@@ -10,7 +10,7 @@ under h_c at that sample (Djebali et al. Sec. 2.3; Herraz et al. Sec. 3).
 2. Curvature across the feed: kappa = II(b, b) / I(b, b) along the cross-feed surface tangent
    b (the tangent orthogonal to the feed tangent t), > 0 concave seen from the tool.
 3. Spacing of the contact points ON THE SURFACE, measured across the feed: the circle model
-   with exact flat-surface geometry and the curvature to first order (toolpath_formulas.md,
+   with exact flat-surface geometry and the curvature to first order (docs/toolpath_formulas.md,
    "Scallop height"; it replaces Djebali Eq. 2, which is the spacing of the tool centres):
 
        w^2 = 4 h_c (2 - h_c / R_eff) / (1 / R_eff - kappa)
@@ -27,7 +27,7 @@ under h_c at that sample (Djebali et al. Sec. 2.3; Herraz et al. Sec. 3).
 
 Accuracy: R_eff (a circle) is within a few per cent of a simulated cut for the ball-end and
 only approximate (15-30 %) for toroidal cutters, whose swept profile is an offset ellipse
-(toolpath_formulas.md); the cap is exact on planes.
+(docs/toolpath_formulas.md); the cap is exact on planes.
 """
 
 from __future__ import annotations

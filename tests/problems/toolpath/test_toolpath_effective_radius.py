@@ -1,4 +1,4 @@
-"""Effective radius: reference numbers of toolpath_formulas.md and the classic cases."""
+"""Effective radius: reference numbers of docs/toolpath_formulas.md and the classic cases."""
 
 import numpy as np
 import pytest

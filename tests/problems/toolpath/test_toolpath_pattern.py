@@ -44,7 +44,7 @@ def _middle_pass_stations(geom, step, iters=3):
 
 @pytest.mark.parametrize("step,true_ref,normals_ref", [(5.0, 0.0040, 0.0083), (10.0, 0.0141, 0.0294)])
 def test_fountas_middle_pass_chord_error_reference(fountas_geometry, step, true_ref, normals_ref):
-    """toolpath_formulas.md: middle X pass, true CC chord error 0.0040 mm (5 mm step) and
+    """docs/toolpath_formulas.md: middle X pass, true CC chord error 0.0040 mm (5 mm step) and
     0.0141 mm (10 mm); the normal-angle formula gives 0.0083 and 0.0294.
 
     The reference states neither the pass's y nor where the stations sit. Here: y = -51.6

@@ -55,7 +55,7 @@ def test_circle_scallop_first_order_forms_convex_concave_and_flat_bottom():
 
 
 def test_djebali_spacing_reference_values():
-    # toolpath_formulas.md: R_eff 6, rho 30, h 0.01 (convex)
+    # docs/toolpath_formulas.md: R_eff 6, rho 30, h 0.01 (convex)
     assert stepover_djebali_eq2(0.01, 6.0, 30.0) == pytest.approx(0.7589, abs=5e-5)
     centres, cc = spacing_exact(0.01, 6.0, 30.0, convex=True)
     assert centres == pytest.approx(0.7585, abs=5e-5)

@@ -19,7 +19,7 @@ def test_fountas_bounding_box_area_and_slope_match_reference():
     u, v = _grid(401)
     j = s.jet(u, v)
     lo, hi = j.p.min(0), j.p.max(0)
-    # toolpath_formulas.md: x in [-94.4, 0.1], y in [-103.2, 0], z in [3.63, 49.8]
+    # docs/toolpath_formulas.md: x in [-94.4, 0.1], y in [-103.2, 0], z in [3.63, 49.8]
     np.testing.assert_allclose(lo, [-94.4, -103.2, 3.63], atol=0.005)
     np.testing.assert_allclose(hi, [0.1, 0.0, 49.8], atol=0.005)
     area = np.linalg.norm(np.cross(j.su, j.sv), axis=1).reshape(401, 401)
