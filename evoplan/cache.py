@@ -35,7 +35,7 @@ Budget = Literal["distinct", "all"]
 class CacheConfig(BaseModel):
     """The ``cache`` group of a run or study file."""
 
-    model_config = ConfigDict(extra="forbid", frozen=True)
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
 
     size: int = Field(100_000, ge=0, description="genotypes kept (first in, first out); 0: no cache")
     budget: Budget = Field("distinct", description="what the evaluation budget counts: distinct genotypes or all asked")

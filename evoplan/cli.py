@@ -16,8 +16,17 @@ from .commands import COMMANDS
 from .errors import EvoplanError
 
 
+class OneLineParser(argparse.ArgumentParser):
+    """argparse with its usage errors on one line (``evoplan: error: ...``, exit 2); ``-h`` shows usage."""
+
+    def error(self, message: str):
+        command = self.prog.removeprefix("evoplan").strip()
+        hint = f" (evoplan {command} -h for usage)" if command else " (evoplan -h for usage)"
+        self.exit(2, f"evoplan: error: {' '.join(message.split())}{hint}\n")
+
+
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="evoplan", description="Evolutionary toolpath optimization.")
+    parser = OneLineParser(prog="evoplan", description="Evolutionary toolpath optimization.")
     parser.add_argument("--version", action="version", version=f"evoplan {__version__}")
     sub = parser.add_subparsers(dest="command", required=True)
     for name in COMMANDS:

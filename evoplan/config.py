@@ -19,17 +19,17 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Annotated, Any, Literal, Union
 
-import yaml
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 
 from .adapters import ADAPTERS
 from .algorithms import ALGORITHMS
 from .cache import CacheConfig
 from .errors import ConfigError
+from .safe_yaml import load_file, short
 
 
 class _Strict(BaseModel):
-    model_config = ConfigDict(extra="forbid")
+    model_config = ConfigDict(extra="forbid", allow_inf_nan=False)  # .inf/.nan: no setting means them
 
 
 class VariableOverride(_Strict):
@@ -90,6 +90,15 @@ class EvaluationConfig(_Strict):
     workers: int | None = Field(None, ge=1)
     scheduler: str | None = Field(None, description="address of a running Dask scheduler")
     chunks: int | None = Field(None, ge=1, description="pieces a batch is cut into (default: one per worker)")
+    timeout_s: float | None = Field(None, gt=0, description="a chunk running longer fails its rows (processes, dask)")
+
+    @model_validator(mode="after")
+    def _scheduler_needs_dask(self):
+        if self.scheduler and self.backend != "dask":
+            raise ValueError(f"a scheduler is for backend dask, not {self.backend}")
+        if self.timeout_s is not None and self.backend == "serial":
+            raise ValueError("timeout_s needs backend processes or dask (a serial evaluation cannot be stopped)")
+        return self
 
 
 # every algorithm a run or a study can name: name -> (class, settings model)
@@ -98,8 +107,13 @@ REGISTRY: dict[str, tuple[type, type]] = {**ALGORITHMS, **ADAPTERS}
 AlgorithmConfig = Annotated[Union[tuple(model for _, model in REGISTRY.values())], Field(discriminator="name")]
 
 
+# a run's name becomes part of its default results folder: one plain file name (no path
+# separator, control character or leading dot), short enough for any file system
+SafeName = Annotated[str, Field(max_length=120, pattern=r"^[^/\\.\x00-\x1f][^/\\\x00-\x1f]*$")]
+
+
 class RunConfig(_Strict):
-    name: str | None = None
+    name: SafeName | None = None
     seed: int = Field(0, ge=0)
     problem: ProblemConfig
     algorithm: AlgorithmConfig
@@ -119,21 +133,8 @@ class RunConfig(_Strict):
 
 
 def read_yaml(path: str | Path) -> dict[str, Any]:
-    """A YAML mapping from ``path``; missing files and syntax errors become one-line errors."""
-    path = Path(path)
-    try:
-        text = path.read_text()
-    except FileNotFoundError:
-        raise ConfigError(f"{path}: no such file") from None
-    except OSError as e:
-        raise ConfigError(f"{path}: cannot read ({e.strerror})") from None
-    try:
-        data = yaml.safe_load(text)
-    except yaml.YAMLError as e:
-        mark = getattr(e, "problem_mark", None)
-        where = f"{path}:{mark.line + 1}" if mark is not None else str(path)
-        problem = getattr(e, "problem", None) or str(e).splitlines()[0]
-        raise ConfigError(f"{where}: invalid YAML: {problem}") from None
+    """A YAML mapping from ``path``, read with limits (:mod:`evoplan.safe_yaml`): one-line errors."""
+    data = load_file(path)
     if not isinstance(data, dict):
         raise ConfigError(f"{path}: expected a mapping of settings at the top level")
     return data
@@ -142,22 +143,24 @@ def read_yaml(path: str | Path) -> dict[str, Any]:
 def format_validation_error(error: ValidationError, source: str) -> str:
     """The first error of a pydantic validation as ``source: key.path: message (got value)``."""
     first = error.errors()[0]
-    loc = [str(p) for p in first["loc"]]
+    loc = [str(p)[:60] for p in first["loc"]]
     if len(loc) > 1 and loc[0] == "algorithm" and first["type"] != "union_tag_invalid":
         del loc[1]  # the discriminator tag pydantic inserts ("algorithm.vega.virus...")
     got = first.get("input")
     if first["type"] == "union_tag_invalid":
         loc.append("name")
-        msg = f"unknown algorithm {first['ctx']['tag']!r} (known: {first['ctx']['expected_tags']})"
+        msg = f"unknown algorithm {short(first['ctx']['tag'])} (known: {first['ctx']['expected_tags']})"
     elif first["type"] == "union_tag_not_found":
         loc.append("name")
         msg = f"missing (known: {', '.join(REGISTRY)})"
     elif first["type"] == "missing":
         msg = "missing"
+    elif first["type"] == "string_pattern_mismatch" and loc[-1:] == ["name"]:
+        msg = f"must be a plain file name: no '/', '\\', control character or leading '.' (got {short(got)})"
     else:
         msg = first["msg"].removeprefix("Value error, ")
         if not isinstance(got, dict):
-            msg += f" (got {got!r})"
+            msg += f" (got {short(got)})"
     more = len(error.errors()) - 1
     tail = f" [+{more} more error{'s' if more > 1 else ''}]" if more else ""
     return f"{source}: {'.'.join(loc) or '(top level)'}: {msg}{tail}"

@@ -10,9 +10,8 @@ from __future__ import annotations
 
 from typing import Any
 
-import yaml
-
 from .errors import ConfigError
+from .safe_yaml import load_text, short
 
 
 def apply_settings(data: dict[str, Any], items: list[str], source: str) -> dict[str, Any]:
@@ -22,10 +21,7 @@ def apply_settings(data: dict[str, Any], items: list[str], source: str) -> dict[
         keys = [k.strip() for k in path.split(".")]
         if not sep or not all(keys):
             raise ConfigError(f"--set {item!r}: expected KEY.PATH=VALUE, e.g. algorithm.population=30")
-        try:
-            value = yaml.safe_load(text) if text.strip() else ""
-        except yaml.YAMLError:
-            raise ConfigError(f"--set {item!r}: the value is not valid YAML") from None
+        value = load_text(text, f"--set {short(item)}") if text.strip() else ""  # limits as a file's
         node = data
         for i, key in enumerate(keys[:-1]):
             child = node.get(key)

@@ -145,7 +145,7 @@ class DaskPool:
 
     name = "dask"
 
-    def __init__(self, workers: int | None = None, scheduler: str | None = None) -> None:
+    def __init__(self, workers: int | None = None, scheduler: str | None = None, label: str = "--scheduler") -> None:
         try:
             from distributed import Client, LocalCluster
         except ImportError:
@@ -155,12 +155,12 @@ class DaskPool:
             try:
                 self.client = Client(scheduler, timeout=f"{SCHEDULER_TIMEOUT}s", set_as_default=False)
             except (OSError, ValueError, TypeError) as e:
-                raise EvoplanError(f"--scheduler {scheduler}: no Dask scheduler answers ({str(e).splitlines()[0]})") from None
+                raise EvoplanError(f"{label}: {scheduler}: no Dask scheduler answers ({str(e).splitlines()[0]})") from None
             try:
                 self.client.wait_for_workers(1, timeout=SCHEDULER_TIMEOUT)
             except Exception:  # noqa: BLE001 - distributed raises TimeoutError variants
                 self.client.close()
-                raise EvoplanError(f"--scheduler {scheduler}: the scheduler has no workers") from None
+                raise EvoplanError(f"{label}: {scheduler}: the scheduler has no workers") from None
         else:
             import dask
 
@@ -200,15 +200,22 @@ class DaskPool:
 POOLS: dict[str, type] = {"serial": SerialPool, "processes": ProcessPool, "dask": DaskPool}
 
 
-def open_pool(backend: str = "serial", workers: int | None = None, scheduler: str | None = None):
-    """A pool by backend name; bad combinations and unreachable schedulers are one-line errors."""
+def open_pool(backend: str = "serial", workers: int | None = None, scheduler: str | None = None,
+              label: str = "--scheduler", timeout: float | None = None):
+    """A pool by backend name; bad combinations and unreachable schedulers are one-line errors.
+
+    ``label`` names the setting in those errors (``--scheduler`` on the command line, ``FILE:
+    evaluation.scheduler`` for a run file); ``timeout``: seconds a task may run (processes, dask).
+    """
     if backend not in POOLS:
         raise EvoplanError(f"unknown backend {backend!r} (known: {', '.join(POOLS)})")
     if scheduler and backend != "dask":
-        raise EvoplanError(f"--scheduler is for --backend dask, not {backend}")
+        raise EvoplanError(f"{label} is for --backend dask, not {backend}")
     if workers is not None and workers < 1:
         raise EvoplanError(f"--workers must be at least 1, got {workers}")
-    return POOLS[backend](workers, scheduler)
+    pool = POOLS[backend](workers, scheduler, label) if backend == "dask" else POOLS[backend](workers, scheduler)
+    pool.timeout = timeout
+    return pool
 
 
 class ParallelEvaluator:

@@ -19,6 +19,7 @@ from typing import Any, Callable
 import numpy as np
 from pymoo.core.problem import Problem
 
+from .safe_yaml import short
 from .space import Categorical, Integer, Real, Space
 
 # name -> "module:attribute"; imported on first use so a problem's dependencies load only when used
@@ -35,14 +36,37 @@ def register(name: str, target: str) -> None:
 
 
 def _factory(name: str) -> Callable[..., Problem] | None:
-    target = name if ":" in name else PROBLEMS.get(name.lower())
+    """The class (or registered factory) ``name`` stands for; ``None`` for a pymoo test problem name.
+
+    A ``module:Class`` name imports ``module``, which runs that module's code: a run file that
+    names user code runs it, as ``python -c "import module"`` would. What it names must then be
+    a class deriving from pymoo's ``Problem``; any other callable (``subprocess:run``,
+    ``os:system``) is refused before it is called. Names registered with :func:`register` are
+    trusted factories.
+    """
+    registered = PROBLEMS.get(name.lower())
+    target = registered or (name if ":" in name else None)
     if target is None:
         return None
     module, _, attr = target.partition(":")
+    if not module or not attr:
+        raise ValueError(f"{short(name)}: expected module:Class")
     try:
-        return getattr(importlib.import_module(module), attr)
+        obj = getattr(importlib.import_module(module), attr)
     except (ImportError, AttributeError) as e:
-        raise ValueError(f"cannot import problem {target!r}: {e}") from None
+        raise ValueError(f"cannot import problem {short(target)}: {type(e).__name__}: {_first_line(e)}") from None
+    except (Exception, SystemExit) as e:  # noqa: BLE001 - the user's module raised while being imported
+        raise ValueError(f"importing module {short(module)} raised {type(e).__name__}: {_first_line(e)}") from None
+    if registered is None and not (inspect.isclass(obj) and issubclass(obj, Problem)):
+        raise ValueError(f"{short(target)} is not a pymoo Problem subclass: a run file may name only problem "
+                         "classes (or problems registered with evoplan.problem_factory.register)")
+    return obj
+
+
+def _first_line(e: BaseException) -> str:
+    text = str(e).strip()
+    line = text.splitlines()[0] if text else "(no message)"
+    return line if len(line) <= 120 else line[:117] + "..."
 
 
 def make_problem(name: str, params: dict[str, Any] | None = None, base_dir: str | None = None) -> Problem:
@@ -60,9 +84,9 @@ def make_problem(name: str, params: dict[str, Any] | None = None, base_dir: str 
     try:
         problem = factory(**params)
     except TypeError as e:
-        raise ValueError(f"bad parameters for problem {name!r}: {e}") from None
-    except Exception as e:  # noqa: BLE001 - a problem's own validation error, in one line
-        raise ValueError(f"cannot build problem {name!r}: {e}") from None
+        raise ValueError(f"bad parameters for problem {short(name)}: {_first_line(e)}") from None
+    except (Exception, SystemExit) as e:  # noqa: BLE001 - a problem's own validation error, in one line
+        raise ValueError(f"cannot build problem {short(name)}: {_first_line(e)}") from None
     if not isinstance(problem, Problem):
         raise ValueError(f"{name!r} did not build a pymoo Problem (got {type(problem).__name__})")
     return problem

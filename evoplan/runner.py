@@ -8,6 +8,7 @@ and ``checkpoint.pkl`` while the run goes on, and at the end ``history.csv``, ``
 
 from __future__ import annotations
 
+import errno
 import json
 import sys
 import time
@@ -24,14 +25,17 @@ from .adapters import search_space
 from .cache import EvaluationCache
 from .config import REGISTRY, RunConfig, load_config, read_yaml
 from .engine import HISTORY_COLUMNS, Checkpointer, RunState, Termination, run, write_atomic
-from .errors import ConfigError
+from .errors import ConfigError, EvoplanError
 from .evaluation import Evaluator
 from .multiobjective import add_hypervolume, connect, evaluator_for, write_front
 from .parallel import ParallelEvaluator, open_pool
+from .limits import check_population
+from .results_folder import FolderClaim, claim
 from .problem_factory import build_space, make_problem
 from .space import Space
 
 CHECKPOINT = "checkpoint.pkl"
+DISK_ERRORS = {errno.ENOSPC, errno.EDQUOT, errno.EROFS, errno.EACCES, errno.EPERM, errno.EIO}
 
 
 @dataclass
@@ -80,7 +84,9 @@ def prepare(config: RunConfig, source: str = "<config>", problem=None) -> Prepar
     except ValueError as e:
         raise ConfigError(f"{source}: problem.{e}") from None
     t = config.termination
-    return Prepared(config, source, space, evaluator, Termination(t.generations, t.evaluations, t.target, t.seconds))
+    prepared = Prepared(config, source, space, evaluator, Termination(t.generations, t.evaluations, t.target, t.seconds))
+    check_population(config.algorithm, prepared.search.n_bits, space.n_var, source)
+    return prepared
 
 
 def prepare_file(path: str | Path, seed: int | None = None) -> Prepared:
@@ -92,12 +98,15 @@ def default_out(config: RunConfig) -> Path:
     return Path("results") / f"{config.name}-seed{config.seed}-{stamp}"
 
 
-def start_folder(prepared: Prepared, out: Path) -> None:
-    """Create ``out`` for a new run; refuse a folder that already holds files."""
-    if out.exists() and (not out.is_dir() or any(out.iterdir())):
-        raise ConfigError(f"{out}: already exists and is not empty: choose another --out, or --resume it")
-    out.mkdir(parents=True, exist_ok=True)
-    write_atomic(out / "config.yaml", yaml.safe_dump(prepared.config.resolved(), sort_keys=False).encode())
+def start_folder(prepared: Prepared, out: Path) -> FolderClaim:
+    """Create and lock ``out`` for a new run; refuse a folder that holds files or another run's lock."""
+    folder = claim(out, new=True)
+    try:
+        write_atomic(out / "config.yaml", yaml.safe_dump(prepared.config.resolved(), sort_keys=False).encode())
+    except OSError as e:
+        folder.abandon()
+        raise ConfigError(f"{out}: cannot write the results folder ({e.strerror or e})") from None
+    return folder
 
 
 def resume_state(prepared: Prepared, out: Path) -> RunState:
@@ -120,24 +129,43 @@ def resume_state(prepared: Prepared, out: Path) -> RunState:
 
 
 def execute(prepared: Prepared, out: Path, resume: bool = False, progress: bool | None = None) -> RunState:
-    """Run to termination, checkpointing into ``out``, then write the results files."""
+    """Run to termination, checkpointing into ``out``, then write the results files.
+
+    The evaluation backend is opened before the folder is touched (an unreachable scheduler
+    leaves nothing behind); a new run writes its first checkpoint before the first evaluation,
+    so a run killed at any moment can be resumed. A disk that fills up or turns read-only is a
+    one-line error; the last complete checkpoint stays resumable.
+    """
     cfg = prepared.config
     state = resume_state(prepared, out) if resume else None
-    if state is None:
-        start_folder(prepared, out)
-        state = prepared.new_state()
-    connect(prepared.evaluator, state.algorithm, prepared.search.decode)
-    checkpointer = Checkpointer(out / CHECKPOINT, cfg.checkpoint.every_generations, cfg.checkpoint.every_seconds)
     e = cfg.evaluation
-    pool = open_pool(e.backend, e.workers, e.scheduler) if e.backend != "serial" else None
-    evaluator = ParallelEvaluator(prepared.evaluator, pool, e.chunks) if pool else prepared.evaluator
+    pool = open_pool(e.backend, e.workers, e.scheduler, label=f"{prepared.source}: evaluation.scheduler",
+                     timeout=e.timeout_s) if e.backend != "serial" else None
+    folder = None
     try:
+        if state is None:
+            folder = start_folder(prepared, out)
+            state = prepared.new_state()
+        else:
+            folder = claim(out, new=False)
+        connect(prepared.evaluator, state.algorithm, prepared.search.decode)
+        checkpointer = Checkpointer(out / CHECKPOINT, cfg.checkpoint.every_generations, cfg.checkpoint.every_seconds)
+        if not resume:
+            checkpointer.save(state)  # generation 0: resumable before the first evaluation
+        evaluator = ParallelEvaluator(prepared.evaluator, pool, e.chunks) if pool else prepared.evaluator
         with _progress_bar(prepared.termination, state, progress) as update:
             run(state, prepared.search, evaluator, prepared.termination, checkpointer, update)
+        write_results(prepared, state, out)
+    except OSError as err:
+        if err.errno not in DISK_ERRORS:
+            raise
+        raise EvoplanError(f"{out}: cannot write ({err.strerror}); the last checkpoint is kept: "
+                           f"free space and --resume {out}") from None
     finally:
         if pool is not None:
             pool.close()
-    write_results(prepared, state, out)
+        if folder is not None:
+            folder.release()
     return state
 
 
@@ -200,7 +228,7 @@ def write_results(prepared: Prepared, state: RunState, out: Path) -> None:
         from .plots import convergence_png  # matplotlib loads only when a figure is drawn
 
         title = f"{prepared.config.name}: {prepared.config.algorithm.name} on {prepared.config.problem.name}"
-        write_atomic(out / "convergence.png", convergence_png(history, title))
+        write_atomic(out / "convergence.png", convergence_png(history, title, prepared.config.problem.name))
     write_artifacts(prepared, state, out)
     write_front(prepared, state.algorithm, out)
 

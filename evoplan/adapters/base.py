@@ -26,7 +26,7 @@ from ..space import Space
 class AdapterConfig(BaseModel):
     """Base of the adapters' settings (unknown keys rejected, like every evoplan config)."""
 
-    model_config = ConfigDict(extra="forbid", frozen=True)
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
 
     representation: Literal["real", "binary"] = "real"
 

@@ -13,9 +13,9 @@ import json
 from typing import Any
 
 import numpy as np
-import yaml
 
 from ..errors import ConfigError, EvoplanError
+from ..safe_yaml import load_text, short
 
 
 def add_parser(sub) -> argparse.ArgumentParser:
@@ -32,7 +32,7 @@ def parse_assignments(items: list[str]) -> dict[str, Any]:
         name, sep, text = item.partition("=")
         if not sep or not name.strip():
             raise EvoplanError(f"--set {item!r}: expected NAME=VALUE")
-        values[name.strip()] = yaml.safe_load(text) if text.strip() else text
+        values[name.strip()] = load_text(text, f"--set {short(item)}") if text.strip() else text
     return values
 
 

@@ -16,13 +16,14 @@ import io
 import json
 import time
 from pathlib import Path
-from typing import Any, Literal
+from typing import Annotated, Any, Literal
 
 from pydantic import Field, ValidationError
 
-from ..config import _Strict, format_validation_error, read_yaml
+from ..config import SafeName, _Strict, format_validation_error, read_yaml
 from ..engine import write_atomic
 from ..errors import ConfigError, EvoplanError
+from ..limits import mesh_bytes, require
 
 
 class CutterConfig(_Strict):
@@ -32,8 +33,8 @@ class CutterConfig(_Strict):
 
 class KMeansConfig(_Strict):
     K: int = 3
-    weights: list[float] = Field(default_factory=lambda: [1.0, 1.0, 1.0, 1.0],
-                                 min_length=4, max_length=4)
+    weights: list[Annotated[float, Field(ge=0)]] = Field(default_factory=lambda: [1.0, 1.0, 1.0, 1.0],
+                                                         min_length=4, max_length=4)
 
 
 class AmasConfig(_Strict):
@@ -44,7 +45,7 @@ class AmasConfig(_Strict):
 
 
 class ZoneConfig(_Strict):
-    name: str = "zoning"
+    name: SafeName = "zoning"
     surface: Any = "choi"
     cutter: CutterConfig = Field(default_factory=CutterConfig)
     h_c: float = 0.254
@@ -71,9 +72,11 @@ def load(path: str) -> ZoneConfig:
     data = read_yaml(path)
     data.setdefault("name", Path(path).stem)
     try:
-        return ZoneConfig.model_validate(data)
+        cfg = ZoneConfig.model_validate(data)
     except ValidationError as e:
         raise ConfigError(format_validation_error(e, str(path))) from None
+    require(mesh_bytes(*cfg.mesh), f"{path}: mesh", f"{cfg.mesh[0]} x {cfg.mesh[1]} cells")
+    return cfg
 
 
 def build_plan(cfg: ZoneConfig, base_dir: Path):

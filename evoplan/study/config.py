@@ -33,15 +33,16 @@ from typing import Any, Literal
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
 
 from ..cache import CacheConfig
-from ..config import REGISTRY, TerminationConfig, VariableOverride, read_yaml
+from ..config import REGISTRY, SafeName, TerminationConfig, VariableOverride, read_yaml
 from ..errors import ConfigError
+from ..safe_yaml import short
 from ..problem_factory import build_space, make_problem
 from .bbob import resolve_problem_name
 
 
 
 class _Strict(BaseModel):
-    model_config = ConfigDict(extra="forbid")
+    model_config = ConfigDict(extra="forbid", allow_inf_nan=False)
 
 
 class ProblemSpec(_Strict):
@@ -87,7 +88,7 @@ class OutputConfig(_Strict):
 
 
 class StudyConfig(_Strict):
-    name: str | None = None
+    name: SafeName | None = None
     seed: int = Field(0, ge=0)
     seeds: int = Field(30, ge=1, description="repetitions of every cell")
     budget: BudgetConfig
@@ -122,7 +123,7 @@ def _first_error(error: ValidationError) -> str:
     if first["type"] == "missing":
         msg = "missing"
     elif not isinstance(first.get("input"), dict) and first["type"] != "value_error":
-        msg += f" (got {first.get('input')!r})"
+        msg += f" (got {short(first.get('input'))})"
     where = _loc(tuple(first["loc"]))
     return f"{where}: {msg}" if where else msg
 
@@ -146,7 +147,7 @@ def algorithm_settings(entry: dict[str, Any], where: str, source: str) -> tuple[
     label = str(entry.pop("label", entry.get("name")))
     name = entry.get("name")
     if name not in REGISTRY:
-        raise ConfigError(f"{source}: {where}.name: unknown algorithm {name!r} (known: {', '.join(REGISTRY)})")
+        raise ConfigError(f"{source}: {where}.name: unknown algorithm {short(name)} (known: {', '.join(REGISTRY)})")
     _, model = REGISTRY[name]
     try:
         return label, model.model_validate(entry).model_dump(mode="json")

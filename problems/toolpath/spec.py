@@ -34,6 +34,7 @@ import numpy as np
 from .bezier import BezierSurface, choi_surface
 from .bspline import BSplineSurface
 from .surface import Surface, fountas_surface
+from .surface_checks import check_height_field
 
 __all__ = ["parse_surface", "load_poles"]
 
@@ -58,18 +59,18 @@ def load_poles(source, key: str = "surface.poles", base_dir=None) -> np.ndarray:
         if not path.is_file():
             _fail(key, f"file not found: {path}")
         suffix = path.suffix.lower()
+        import yaml
+
         try:
             if suffix == ".json":
                 data = json.loads(path.read_text())
             elif suffix in (".yaml", ".yml"):
-                import yaml
-
                 data = yaml.safe_load(path.read_text())
             elif suffix == ".csv":
                 return _poles_from_csv(path, key)
             else:
                 _fail(key, f"unsupported file type {suffix!r} (use .json, .yaml or .csv)")
-        except (OSError, ValueError) as exc:
+        except (OSError, ValueError, RecursionError, yaml.YAMLError) as exc:
             if str(exc).startswith(key):
                 raise
             _fail(key, f"cannot read {path}: {str(exc).splitlines()[0]}")
@@ -96,7 +97,7 @@ def _poles_from_csv(path: Path, key: str) -> np.ndarray:
             except ValueError:
                 if n == 0:
                     continue  # header
-                _fail(key, f"{path} line {n + 1}: expected numbers i,j,x,y,z, got {row}")
+                _fail(key, f"{path} line {n + 1}: expected numbers i,j,x,y,z")  # the line is not echoed
             if len(vals) != 5:
                 _fail(key, f"{path} line {n + 1}: expected 5 columns i,j,x,y,z, got {len(vals)}")
             rows.append(vals)
@@ -196,6 +197,7 @@ def parse_surface(spec, key: str = "surface", base_dir=None) -> Surface:
             tu = _knots(spec.get("knots_u"), net.shape[0], p, f"{key}.knots_u")
             tv = _knots(spec.get("knots_v"), net.shape[1], q, f"{key}.knots_v")
             surf = BSplineSurface(net, (p, q), tu, tv)
+        check_height_field(surf, key)  # no fold, overhang, vertical wall or self-overlap
     if flip:
         surf.normal_sign = -surf.normal_sign
     return surf
