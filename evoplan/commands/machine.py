@@ -84,7 +84,8 @@ class KinematicsCfg(_Strict):
     layout: Literal["table_table", "head_table"] = "table_table"
     tilt: RotaryCfg = Field(default_factory=lambda: RotaryCfg(name="A", about="x", limits=[-30.0, 110.0]))
     rotary: RotaryCfg = Field(default_factory=lambda: RotaryCfg(name="C", about="z", limits=[-360.0, 360.0]))
-    max_step: float = Field(10.0, gt=0)
+    max_step: float = Field(10.0, gt=0)        # degrees per NC block (larger turns are split)
+    max_deviation: float = Field(5.0, gt=0)   # degrees off the great circle before a reposition
 
 
 class PostCfg(_Strict):

@@ -12,9 +12,15 @@ Inverse (``angles``): cos a = t_z, so a = +-acos(t_z) (the two branches), and c 
 tilted axis' azimuth onto t's. Along a path the branch and the turn (c + 360 k) are chosen
 to stay closest to the previous point's angles within the limits; at the pole (t = z, where c
 is free) c keeps its previous value and the tilt passes through 0 by changing sign, so the
-table never flips by 180 degrees there. A step larger than ``max_step`` (degrees) between
-consecutive points, or a turn that would leave the rotary limits, is flagged ``unwind``: the
-post-processor then retracts, turns the table with the tool clear, and re-approaches.
+table never flips by 180 degrees there.
+
+Between two points the control interpolates the rotary angles linearly, so the tool axis
+leaves the great circle between the two axes; ``deviation`` measures by how much at the
+midpoint. A move is flagged ``unwind`` when the turn would leave the rotary limits (the table
+must go round the other way) or when that deviation exceeds ``max_deviation`` (degrees; a
+large turn at a large tilt): the post-processor then retracts, turns with the tool clear and
+re-approaches. Other moves whose angles change by more than ``max_step`` degrees are split
+by the post into equal steps (the same motion, written out).
 """
 
 from __future__ import annotations
@@ -46,6 +52,7 @@ class Kinematics:
     tilt: Rotary         # about x or y
     rotary: Rotary       # about z
     max_step: float = 10.0
+    max_deviation: float = 5.0
 
     def __post_init__(self):
         if self.layout not in ("table_table", "head_table"):
@@ -125,5 +132,16 @@ class Kinematics:
                                  f"[{self.rotary.limits[0]:g}, {self.rotary.limits[1]:g}] degrees")
             step, prev_a, prev_c, forced = best
             out[n] = prev_a, prev_c
-            unwind[n] = n > 0 and (forced or step > self.max_step)
+            unwind[n] = n > 0 and forced
+        unwind[1:] |= self.deviation(axes[:-1], axes[1:], out[:-1], out[1:]) > self.max_deviation
         return out, unwind
+
+    def deviation(self, t0, t1, ang0, ang1) -> np.ndarray:
+        """Angle (deg) at the midpoint between the axis the linearly interpolated rotaries give
+        and the great-circle midpoint of the axes t0, t1 (each (n, 3))."""
+        mid = 0.5 * (np.asarray(ang0) + np.asarray(ang1))
+        machine = self.tool_axis(mid[:, 0], mid[:, 1])
+        ideal = np.asarray(t0) + np.asarray(t1)
+        norm = np.linalg.norm(ideal, axis=1, keepdims=True)
+        ideal = np.where(norm > 1e-9, ideal / np.maximum(norm, 1e-300), machine)
+        return np.degrees(np.arccos(np.clip(np.einsum("ij,ij->i", machine, ideal), -1.0, 1.0)))

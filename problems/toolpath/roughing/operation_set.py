@@ -31,7 +31,7 @@ def _kinematics(k: dict) -> Kinematics:
     try:
         return Kinematics(k["layout"], Rotary(k["tilt"]["name"], k["tilt"]["about"], tuple(k["tilt"]["limits"])),
                           Rotary(k["rotary"]["name"], k["rotary"]["about"], tuple(k["rotary"]["limits"])),
-                          float(k["max_step"]))
+                          float(k["max_step"]), float(k["max_deviation"]))
     except ValueError as e:
         raise ValueError(f"post.kinematics: {e}") from None
 

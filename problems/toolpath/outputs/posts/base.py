@@ -85,17 +85,20 @@ class Post:
 
     # ------------------------------------------------------------------ the moves
     def moves(self, tp: Toolpath) -> Moves:
-        """The moves the program makes: the toolpath's points with their angles, plus a
-        retract / turn / re-approach wherever the kinematics flags an unwind."""
+        """The moves the program makes: the toolpath's points with their angles, a retract /
+        turn / re-approach wherever the kinematics flags an unwind, and moves whose angles
+        change by more than ``max_step`` split into equal steps."""
         feed = np.where(tp.rapid, np.nan, np.where(tp.plunge, tp.plunge_feed, tp.feed))
         if not self.five_axis:
             if tp.multi_axis:
                 raise PostError(f"post {self.name} is 3-axis: toolpath {tp.name!r} has tilted tool axes")
             return Moves(tp.tip.copy(), np.full((len(tp.tip), 2), np.nan), tp.rapid.copy(), feed)
-        ang, unwind = self.machine.kinematics.angles(tp.axis)
+        kin = self.machine.kinematics
+        ang, unwind = kin.angles(tp.axis)
         tip, angles, rapid, f = [], [], [], []
         c = self.machine.clearance
         for n in range(len(tp.tip)):
+            feed_n = feed[n]
             if unwind[n] and not tp.rapid[n]:
                 up = tp.tip[n - 1] + c * tp.axis[n - 1]
                 over = tp.tip[n] + c * tp.axis[n]
@@ -104,8 +107,13 @@ class Post:
                 rapid += [True] * 3
                 f += [np.nan] * 3
                 feed_n = tp.plunge_feed
-            else:
-                feed_n = feed[n]
+            elif n > 0:
+                k = int(np.ceil(np.abs(ang[n] - ang[n - 1]).max() / kin.max_step - 1e-9))
+                for i in range(1, k):  # the control's own linear interpolation, written out
+                    tip.append(tp.tip[n - 1] + i / k * (tp.tip[n] - tp.tip[n - 1]))
+                    angles.append(ang[n - 1] + i / k * (ang[n] - ang[n - 1]))
+                    rapid.append(bool(tp.rapid[n]))
+                    f.append(feed_n)
             tip.append(tp.tip[n])
             angles.append(ang[n])
             rapid.append(bool(tp.rapid[n]))
