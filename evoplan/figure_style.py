@@ -58,12 +58,16 @@ def plain_numbers(ax, axis: str = "y") -> None:
     """Tick labels as plain numbers (``1300``, ``0.02``), also on a log axis."""
     target = ax.yaxis if axis == "y" else ax.xaxis
     target.set_major_formatter(FuncFormatter(lambda v, _: f"{v:g}"))
-    if target.get_scale() == "log":  # under ~1.5 decades, label the minor 2, 3, 5 ticks too
+    if target.get_scale() == "log":  # few decades: label minor ticks too (all under one decade)
         lo, hi = sorted(target.get_view_interval())
-        few = lo > 0 and np.log10(hi / lo) < 1.5
+        decades = np.log10(hi / lo) if lo > 0 else np.inf
 
         def minor(v, _):
-            return f"{v:g}" if few and v > 0 and round(v / 10 ** np.floor(np.log10(v))) in (2, 3, 5) else ""
+            if v <= 0 or decades >= 1.5:
+                return ""
+            mantissa = v / 10 ** np.floor(np.log10(v) + 1e-9)
+            keep = decades < 1 or any(abs(mantissa - k) < 1e-6 for k in (2, 3, 5))
+            return f"{v:g}" if keep else ""
 
         target.set_minor_formatter(FuncFormatter(minor))
 

@@ -6,15 +6,16 @@ import numpy as np
 import pandas as pd
 from matplotlib.ticker import MaxNLocator
 
-from .figure_style import PALETTE, label, legend_outside, plain_numbers, png, figure
+from .figure_style import OBJECTIVE_UNITS, PALETTE, figure, label, legend_outside, plain_numbers, png
 
 
-def convergence_figure(history: pd.DataFrame, title: str):
+def convergence_figure(history: pd.DataFrame, title: str, problem: str = ""):
     """Best-so-far and population mean against evaluations; a top axis of generations.
 
     The top axis is a twin of the evaluation axis with the same limits: the tick of generation
     ``g`` sits at the evaluation count at which generation ``g`` ended (its ``history.csv`` row).
-    The y axis is logarithmic when every plotted value is positive.
+    The y axis is logarithmic when every plotted value is positive, and carries the
+    objective's unit when the problem's objective has one (``toolpath_zoning``: mm).
     """
     fig, (ax,) = figure(1, width=7.0, height=4.2)
     ev = history["evaluations"].to_numpy(dtype=float)
@@ -26,7 +27,8 @@ def convergence_figure(history: pd.DataFrame, title: str):
         ax.set_yscale("log")
         plain_numbers(ax, "y")
     ax.set_xlabel("evaluations")
-    ax.set_ylabel("objective (minimized)")
+    unit = OBJECTIVE_UNITS.get(problem)
+    ax.set_ylabel(f"objective, minimized ({unit})" if unit else "objective (minimized)")
     ax.set_title(title)
     legend_outside(ax)
     generation_axis(ax, history)
@@ -43,14 +45,15 @@ def generation_axis(ax, history: pd.DataFrame):
     if len(gens):
         wanted = MaxNLocator(nbins=8, integer=True).tick_values(gens.min(), gens.max())
         at = np.isin(gens, np.rint(wanted).astype(int))
+        at &= np.r_[ev[1:] != ev[:-1], True]  # generations that cost nothing (cache): label the last
         top.set_xticks(ev[at], labels=[str(g) for g in gens[at]])
     top.set_xlabel("generation")
     return top
 
 
-def convergence_png(history: pd.DataFrame, title: str) -> bytes:
+def convergence_png(history: pd.DataFrame, title: str, problem: str = "") -> bytes:
     """:func:`convergence_figure` as PNG bytes."""
-    return png(convergence_figure(history, title))
+    return png(convergence_figure(history, title, problem))
 
 
 def pareto_png(front: pd.DataFrame, names: list[str], weights: dict[str, float], title: str) -> bytes:

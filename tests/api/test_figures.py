@@ -51,3 +51,13 @@ def test_floor_and_small_boxes_are_shown():
     mark_floor(ax, 1e-16, 4)
     assert any("4 values at or below" in t for t in ax.get_legend_handles_labels()[1])
     plt.close(fig)
+
+
+def test_generations_that_cost_no_evaluation_share_one_tick():
+    history = _history([8, 6, 0, 0, 1, 2, 1])  # generations 2-3 answered by the cache
+    fig = convergence_figure(history, "t", "toolpath_zoning")
+    ax, top = fig.axes
+    ticks, labels = top.get_xticks(), [t.get_text() for t in top.get_xticklabels()]
+    assert len(set(ticks)) == len(ticks) and "3" in labels and "1" not in labels and "2" not in labels
+    assert ax.get_ylabel() == "objective, minimized (mm)"
+    plt.close(fig)

@@ -75,3 +75,31 @@ def test_indicator_helpers_against_hand_values():
     assert nondominated(F).tolist() == [True, True, True, False, False]
     # three unit steps below (4, 4): 3 + 2 + 1 unit squares
     assert hypervolume(F, np.array([4.0, 4.0])) == pytest.approx(6.0)
+
+
+def test_a_resumed_multi_objective_run_continues_exactly():
+    import pickle
+
+    from evoplan.api import run_config
+    from evoplan.engine import Termination, run
+    from evoplan.multiobjective import connect
+    from evoplan.runner import prepare
+
+    cfg, _ = run_config(RUN, "sms_emoa", pop_size=8, termination=5, seed=3)
+
+    def fresh():
+        prepared = prepare(cfg)
+        state = prepared.new_state()
+        connect(prepared.evaluator, state.algorithm, prepared.search.decode)
+        return prepared, state
+
+    p, whole = fresh()
+    run(whole, p.search, p.evaluator, Termination(generations=5))
+    p, half = fresh()
+    run(half, p.search, p.evaluator, Termination(generations=2))
+    p2, resumed = prepare(cfg), pickle.loads(pickle.dumps(half))  # what a checkpoint holds
+    connect(p2.evaluator, resumed.algorithm, p2.search.decode)
+    run(resumed, p2.search, p2.evaluator, Termination(generations=5))
+    assert resumed.best_f == whole.best_f and resumed.evaluations == whole.evaluations
+    np.testing.assert_array_equal(resumed.algorithm.front_F, whole.algorithm.front_F)
+    assert resumed.algorithm.hypervolumes == whole.algorithm.hypervolumes
