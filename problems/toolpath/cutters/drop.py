@@ -27,7 +27,8 @@ finite surface slope raises the surface, and its rim is never the contact.
 Every candidate is a feasible point, so the result is a lower bound of the true maximum
 that reaches it when the seeds sit in the right basins; the dense grid seeds (spacing
 R / 10 by default) make that so for parts whose features are larger than the grid.
-Queries whose disk holds no grid point get only B and C (-inf when nothing is touched).
+Queries whose disk holds no grid point (it grazes the patch) start A from the edge point
+nearest the axis; -inf when nothing is touched.
 """
 
 from __future__ import annotations
@@ -161,30 +162,53 @@ def _rim(cutter, surface, grid, c, g_rim, iterations=60):
 
 
 def _edges(cutter, surface, grid, xy, g_rim, iterations=50):
-    """Candidates C: crossings of the rim circle with the patch edges, per query (k,)."""
+    """Candidates C: crossings of the rim circle with the patch edges, per query (k,);
+    and per query the best edge point nearest the axis inside the disk (a Newton seed).
+
+    Returns (uv (k, 2), value (k,), seed uv (k, 2), seed value (k,)); -inf where none.
+    """
     big = cutter.radius
     lists = grid.seg_tree.query_ball_point(xy, big + grid.seg_reach)
     counts = np.fromiter(map(len, lists), np.int64, len(lists))
     best_val = np.full(len(xy), -np.inf)
     best_uv = np.full((len(xy), 2), np.nan)
+    seed_val, seed_uv = best_val.copy(), best_uv.copy()
     if counts.sum() == 0:
-        return best_uv, best_val
+        return best_uv, best_val, seed_uv, seed_val
     seg = np.concatenate([np.asarray(x, np.int64) for x in lists])
     q = np.repeat(np.arange(len(xy)), counts)
-    phi = np.linalg.norm(grid.seg_xy[seg] - xy[q][:, None, :], axis=-1) - big
-    cross = phi[:, 0] * phi[:, 1] <= 0
-    seg, q, phi = seg[cross], q[cross], phi[cross]
-    if len(seg) == 0:
-        return best_uv, best_val
+    ends = grid.seg_xy[seg]
+    phi = np.linalg.norm(ends - xy[q][:, None, :], axis=-1) - big
+    # split each segment at the point of its chord nearest the axis: a disk that cuts the
+    # segment between its ends has one crossing on each side of it
+    chord = ends[:, 1] - ends[:, 0]
+    lam = np.clip(np.einsum("ij,ij->i", xy[q] - ends[:, 0], chord)
+                  / np.maximum(np.einsum("ij,ij->i", chord, chord), 1e-300), 0.0, 1.0)
     a, b = grid.seg_uv[seg, 0], grid.seg_uv[seg, 1]
-    lo, hi = np.zeros(len(seg)), np.ones(len(seg))
-    sign_lo = np.sign(phi[:, 0])
+    uv_m = a + lam[:, None] * (b - a)
+    p_m = surface.jet(uv_m[:, 0], uv_m[:, 1], order=0).p
+    rho_m = np.linalg.norm(p_m[:, :2] - xy[q], axis=1)
+    phi_m = rho_m - big
+    f_m = p_m[:, 2] - cutter.height(rho_m)
+    arg = _group_argmax(q[phi_m < 0], f_m[phi_m < 0], len(xy))
+    has = arg >= 0
+    inner = np.flatnonzero(phi_m < 0)
+    seed_val[has], seed_uv[has] = f_m[inner[arg[has]]], uv_m[inner[arg[has]]]
+    lo = np.concatenate([np.zeros(len(seg)), lam])
+    hi = np.concatenate([lam, np.ones(len(seg))])
+    f_lo = np.concatenate([phi[:, 0], phi_m])
+    f_hi = np.concatenate([phi_m, phi[:, 1]])
+    keep = (f_lo * f_hi <= 0) & (hi > lo)
+    q, a, b = np.tile(q, 2)[keep], np.tile(a, (2, 1))[keep], np.tile(b, (2, 1))[keep]
+    lo, hi, sign_lo = lo[keep], hi[keep], np.sign(f_lo[keep])
+    if len(q) == 0:
+        return best_uv, best_val, seed_uv, seed_val
     for _ in range(iterations):
-        mid = 0.5 * (lo + hi)
-        uv = a + mid[:, None] * (b - a)
+        m = 0.5 * (lo + hi)
+        uv = a + m[:, None] * (b - a)
         p = surface.jet(uv[:, 0], uv[:, 1], order=0).p
         same = np.sign(np.linalg.norm(p[:, :2] - xy[q], axis=1) - big) == sign_lo
-        lo, hi = np.where(same, mid, lo), np.where(same, hi, mid)
+        lo, hi = np.where(same, m, lo), np.where(same, hi, m)
     # the end inside the disk (rho <= R) is feasible
     t = np.where(sign_lo <= 0, lo, hi)
     uv = a + t[:, None] * (b - a)
@@ -192,7 +216,7 @@ def _edges(cutter, surface, grid, xy, g_rim, iterations=50):
     arg = _group_argmax(q, val, len(xy))
     has = arg >= 0
     best_val[has], best_uv[has] = val[arg[has]], uv[arg[has]]
-    return best_uv, best_val
+    return best_uv, best_val, seed_uv, seed_val
 
 
 def _seeds(cutter, grid, xy):
@@ -242,13 +266,26 @@ def drop_cutter(cutter, surface, xy, return_contact: bool = False, spacing: floa
         c = xy[start:start + chunk]
         k = len(c)
         seeds = _seeds(cutter, grid, c)
-        cand_val, cand_uv = [], []
+        cand_val, cand_uv = [np.full(k, -np.inf)], [np.full((k, 2), np.nan)]
         qa, sa = np.nonzero(seeds >= 0)
         key = seeds[qa, sa]
         first = np.unique(qa * (len(grid.u) + 1) + key, return_index=True)[1]
         qa, key = qa[first], key[first]
+        uv0 = np.stack([grid.u[key], grid.v[key]], 1)
+        lonely = np.flatnonzero(seeds[:, 0] < 0)  # no grid point in the disk
+        if rim_contacts:
+            uv_b, v_b = _rim(cutter, surface, grid, c, g_rim)
+            uv_c, v_c, uv_s, v_s = _edges(cutter, surface, grid, c, g_rim)
+            cand_val += [v_b, v_c]
+            cand_uv += [uv_b, uv_c]
+            uv_e, v_e = uv_s[lonely], v_s[lonely]
+        else:
+            uv_e, v_e = _edges(cutter, surface, grid, c[lonely], g_rim)[2:]
+        # a disk that only grazes the patch between grid points: Newton from the edge
+        # point nearest the axis
+        ok = np.isfinite(v_e)
+        qa, uv0 = np.concatenate([qa, lonely[ok]]), np.concatenate([uv0, uv_e[ok]])
         if len(qa):
-            uv0 = np.stack([grid.u[key], grid.v[key]], 1)
             uv, val = _newton(cutter, surface, uv0, c[qa], iterations)
             arg = _group_argmax(qa, val, k)
             has = arg >= 0
@@ -256,11 +293,6 @@ def drop_cutter(cutter, surface, xy, return_contact: bool = False, spacing: floa
             v_a[has], uv_a[has] = val[arg[has]], uv[arg[has]]
             cand_val.append(v_a)
             cand_uv.append(uv_a)
-        if rim_contacts:
-            uv_b, v_b = _rim(cutter, surface, grid, c, g_rim)
-            uv_c, v_c = _edges(cutter, surface, grid, c, g_rim)
-            cand_val += [v_b, v_c]
-            cand_uv += [uv_b, uv_c]
         vals = np.stack(cand_val, 1)
         best = np.argmax(vals, axis=1)
         rows = np.arange(k)

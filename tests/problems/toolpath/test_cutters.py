@@ -11,6 +11,7 @@ from toolpath_analytic import Cylinder, Plane, Sphere
 
 from evoplan.problems.toolpath.cutters import (
     CUTTERS, BallEndCutter, FlatEndCutter, ToroidalCutter, cutter_from_tool, make_cutter)
+from evoplan.problems.toolpath.cutters.surface_grid import surface_grid
 from evoplan.problems.toolpath.effective_radius import (
     effective_radius_3axis, effective_radius_lead_tilt)
 from evoplan.problems.toolpath.spec import parse_surface
@@ -260,3 +261,18 @@ def test_drop_agrees_with_opencamlib_on_a_triangulated_choi_surface():
         z_ocl = np.array([q.z for q in bdc.getCLPoints()])
         z = make_cutter(d, r).drop_cutter(surface, xy)
         assert np.abs(z - z_ocl).max() <= 2 * sag + 1e-6, (d, r, sag)
+
+
+@pytest.mark.parametrize("d, r", SHAPES)
+def test_drop_on_a_disk_that_grazes_the_patch_edge(d, r):
+    # the disk overlaps the footprint x <= 100 by 2 um (a chord of +-0.13 mm on the edge)
+    # midway between the seed grid's edge points (spacing R / 10 = 0.4 mm: y = 20.0, 20.4)
+    plane = Plane(a=0.3, b=0.0, c=0.0)
+    c = make_cutter(d, r)
+    depth = 0.002
+    xy = np.array([[100.0 + d / 2 - depth, 20.2], [100.0 + d / 2 + 0.1, 20.0]])
+    grid = surface_grid(plane, 0.4)
+    assert np.min(np.hypot(*(grid.xy - xy[0]).T)) > c.radius  # no seed in the disk
+    z = c.drop_cutter(plane, xy)
+    assert np.isclose(z[0], 30.0 - c.height(d / 2 - depth), atol=1e-9)
+    assert z[1] == -np.inf  # off the part: nothing to touch
