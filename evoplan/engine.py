@@ -13,7 +13,6 @@ uninterrupted run would have drawn.
 from __future__ import annotations
 
 import os
-import pickle
 import tempfile
 import time
 from dataclasses import dataclass, field
@@ -62,7 +61,7 @@ class Termination:
 
 @dataclass
 class RunState:
-    """Everything a run needs to continue: pickled whole into a checkpoint."""
+    """Everything a run needs to continue: stored as data in a checkpoint (:mod:`evoplan.checkpoint`)."""
 
     algorithm: Algorithm
     rng: np.random.Generator
@@ -114,18 +113,24 @@ class Checkpointer:
         return bool(self.every_seconds) and time.perf_counter() - self._last_time >= self.every_seconds
 
     def save(self, state: RunState) -> None:
-        write_atomic(self.path, pickle.dumps(state, protocol=pickle.HIGHEST_PROTOCOL))
+        from .checkpoint import dumps  # data only: JSON + arrays, never a pickle
+
+        write_atomic(self.path, dumps(state))
         self._last_time = time.perf_counter()
 
     @staticmethod
-    def load(path: str | Path) -> RunState:
-        with open(path, "rb") as fh:
-            state = pickle.load(fh)
-        if not isinstance(state, RunState):
-            raise ValueError(f"{path}: not an evoplan checkpoint")
-        if state.version != __version__:
-            raise ValueError(f"{path}: checkpoint of evoplan {state.version}, this is {__version__}")
-        return state
+    def load(path: str | Path, fresh: RunState) -> RunState:
+        """The checkpoint at ``path`` loaded into ``fresh`` (a new state of the same run file).
+
+        ``ValueError`` (a :class:`~evoplan.checkpoint.CheckpointError`) if the file is damaged
+        (checksum), of another version or configuration, or of an algorithm that is not data.
+        """
+        from .checkpoint import CheckpointError, load_into, read
+
+        meta, arrays = read(path)
+        if meta.get("fingerprint") != fresh.fingerprint:
+            raise CheckpointError("made by another configuration")
+        return load_into(meta, arrays, fresh)
 
 
 def _umask() -> int:

@@ -69,4 +69,13 @@ def claim(out: Path, new: bool) -> FolderClaim:
     if new and any(out.iterdir()):
         c.release()
         raise ConfigError(f"{out}: already exists and is not empty: choose another --out, or --resume it")
+    remove_stale_temp(out)
     return c
+
+
+def remove_stale_temp(out: Path) -> list[Path]:
+    """Delete the temporary files of writes a killed run left half done (``.NAME.XXXX.tmp``)."""
+    stale = [p for p in Path(out).glob(".*.tmp") if p.is_file()]
+    for p in stale:
+        p.unlink(missing_ok=True)
+    return stale

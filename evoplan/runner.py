@@ -2,7 +2,7 @@
 
 Everything that can be checked is checked before the results folder is created, so bad input
 leaves nothing behind. The folder then holds ``config.yaml`` (every setting, defaults included)
-and ``checkpoint.pkl`` while the run goes on, and at the end ``history.csv``, ``best.json`` and
+and ``checkpoint.npz`` (data only, :mod:`evoplan.checkpoint`) while the run goes on, and at the end ``history.csv``, ``best.json`` and
 ``convergence.png``, each written completely or not at all.
 """
 
@@ -23,6 +23,8 @@ from tqdm import tqdm
 from . import __version__
 from .adapters import search_space
 from .cache import EvaluationCache
+from .checkpoint import CheckpointError, load_into
+from .checkpoint import read as read_checkpoint
 from .config import REGISTRY, RunConfig, load_config, read_yaml
 from .engine import HISTORY_COLUMNS, Checkpointer, RunState, Termination, run, write_atomic
 from .errors import ConfigError, EvoplanError
@@ -34,7 +36,7 @@ from .results_folder import FolderClaim, claim
 from .problem_factory import build_space, make_problem
 from .space import Space
 
-CHECKPOINT = "checkpoint.pkl"
+CHECKPOINT = "checkpoint.npz"
 DISK_ERRORS = {errno.ENOSPC, errno.EDQUOT, errno.EROFS, errno.EACCES, errno.EPERM, errno.EIO}
 
 
@@ -110,22 +112,33 @@ def start_folder(prepared: Prepared, out: Path) -> FolderClaim:
 
 
 def resume_state(prepared: Prepared, out: Path) -> RunState:
-    """The checkpointed state in ``out``, if it was made by this very configuration."""
-    if not (out / CHECKPOINT).is_file():
+    """The checkpointed state in ``out``, if it was made by this very configuration.
+
+    The checkpoint is data (:mod:`evoplan.checkpoint`): it is loaded into a fresh state built
+    from the run file, after its checksum and fingerprint are checked; nothing in it is run.
+    """
+    path = out / CHECKPOINT
+    if not path.is_file():
         raise ConfigError(f"{out}: no {CHECKPOINT} to resume from")
     try:
-        state = Checkpointer.load(out / CHECKPOINT)
-    except Exception as e:  # noqa: BLE001 - unreadable, torn or foreign file
-        raise ConfigError(f"{out / CHECKPOINT}: cannot read checkpoint ({e})") from None
-    if state.fingerprint != prepared.fingerprint:
-        before = json.loads(state.fingerprint)
+        meta, arrays = read_checkpoint(path)
+    except CheckpointError as e:
+        raise ConfigError(f"{path}: cannot resume: {e}") from None
+    if meta.get("fingerprint") != prepared.fingerprint:
+        try:
+            before = json.loads(meta.get("fingerprint") or "{}")
+        except (TypeError, ValueError):
+            before = {}
         now = prepared.config.fingerprint()
-        keys = [k for k in now if now.get(k) != before.get(k)]
+        keys = [k for k in now if now.get(k) != before.get(k)] or ["its fingerprint"]
         raise ConfigError(
             f"{prepared.source}: differs from the configuration of {out} in {', '.join(keys)}: "
             "resume with the same file and seed"
         )
-    return state
+    try:
+        return load_into(meta, arrays, prepared.new_state())
+    except CheckpointError as e:
+        raise ConfigError(f"{path}: cannot resume: {e}") from None
 
 
 def execute(prepared: Prepared, out: Path, resume: bool = False, progress: bool | None = None) -> RunState:

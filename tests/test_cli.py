@@ -43,7 +43,7 @@ def test_run_writes_every_result_file(tmp_path):
     proc = evoplan("run", cfg, "--out", out)
     assert proc.returncode == 0, proc.stderr
     assert sorted(p.name for p in out.iterdir()) == [
-        "best.json", "checkpoint.pkl", "config.yaml", "convergence.png", "history.csv"]
+        "best.json", "checkpoint.npz", "config.yaml", "convergence.png", "history.csv"]
     best = json.loads((out / "best.json").read_text())
     assert set(best["variables"]) == {"x", "y"} and best["seed"] == 3
     assert best["algorithm"] == "vega" and best["problem"] == "kubota" and best["failures"] == 0
@@ -144,7 +144,7 @@ def test_resume_after_sigkill_gives_the_uninterrupted_result(tmp_path):
                             env=ENV, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     deadline = time.time() + 60
     while time.time() < deadline and proc.poll() is None:
-        ckpt = killed / "checkpoint.pkl"
+        ckpt = killed / "checkpoint.npz"
         if ckpt.exists() and ckpt.stat().st_size > 0:
             time.sleep(0.3)  # a few generations in
             break
@@ -171,7 +171,7 @@ def test_resume_refuses_another_configuration(tmp_path):
     proc = evoplan("run", other, "--resume", tmp_path / "res")
     assert proc.returncode == 2 and "algorithm" in proc.stderr
     proc = evoplan("run", cfg, "--resume", tmp_path / "nothing")
-    assert proc.returncode == 2 and "no checkpoint.pkl" in proc.stderr
+    assert proc.returncode == 2 and "no checkpoint.npz" in proc.stderr
 
 
 def test_evaluate_prints_one_parameter_set(tmp_path):

@@ -7,8 +7,8 @@ An algorithm owns its populations as numpy arrays and never evaluates anything i
   evaluation) and says whether a generation has just ended.
 
 A generation may take several ask/tell rounds (VEGA: offspring, then infected hosts), so that
-every evaluation is made, and counted, by the engine. Between generations the whole algorithm
-object, with the generator it holds, is the state a checkpoint stores.
+every evaluation is made, and counted, by the engine. Between generations the algorithm's
+attributes, with the generator it holds, are the state a checkpoint stores (as data).
 """
 
 from __future__ import annotations
@@ -39,6 +39,21 @@ class Algorithm(ABC):
     @abstractmethod
     def tell(self, f: np.ndarray) -> bool:
         """Objective values of the last batch; True when a generation has ended."""
+
+    def state_dict(self) -> dict:
+        """The algorithm's state as named values for a data-only checkpoint (:mod:`evoplan.checkpoint`).
+
+        By default every attribute: arrays, numbers, strings, the generator (stored as its
+        ``bit_generator.state``) and the settings model (not stored: rebuilt from the run
+        file). An algorithm holding anything else (another library's objects) cannot be
+        checkpointed as data; the checkpoint then says which attribute, and ``--resume`` refuses.
+        """
+        return dict(vars(self))
+
+    def load_state_dict(self, values: dict) -> None:
+        """Take back the values of :meth:`state_dict` (the generator already loaded in place)."""
+        for name, value in values.items():
+            setattr(self, name, value)
 
     @property
     def population(self) -> tuple[np.ndarray, np.ndarray]:

@@ -40,7 +40,7 @@ def test_resume_after_interruption_gives_the_identical_result(tmp_path, algorith
     p = prepared(algorithm, generations=20)
     full = run(p.new_state(), p.space, p.evaluator, p.termination)
 
-    path = tmp_path / "checkpoint.pkl"
+    path = tmp_path / "checkpoint.npz"
 
     def crash_at_9(state):
         if state.algorithm.generation == 9:
@@ -48,7 +48,7 @@ def test_resume_after_interruption_gives_the_identical_result(tmp_path, algorith
 
     with pytest.raises(Stop):
         run(p.new_state(), p.space, p.evaluator, p.termination, Checkpointer(path, every_generations=4), crash_at_9)
-    state = Checkpointer.load(path)
+    state = Checkpointer.load(path, p.new_state())  # data loaded into a fresh state
     assert state.algorithm.generation == 8  # the last checkpoint before the crash
     resumed = run(state, p.space, p.evaluator, p.termination, Checkpointer(path, every_generations=4))
     assert history(resumed) == history(full)
