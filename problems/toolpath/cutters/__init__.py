@@ -4,7 +4,7 @@
   on them: CC -> tip offset, drop-cutter, R_eff, the APT statement) and the registry
   (:func:`register`, :func:`make_cutter`).
 - ``shapes``: the flat-end, ball-end and toroidal cutters (one torus geometry).
-- ``drop``: the 3-axis drop-cutter against an exact parametric surface.
+- ``drop`` (+ ``drop_rim``): the 3-axis drop-cutter against an exact parametric surface.
 - ``surface_grid``: the dense (u, v) grid with an XY KD-tree, and the inverse map XY -> (u, v).
 
 A new shape (tapered, conical, ...) is one subclass of :class:`Cutter` decorated with
