@@ -5,8 +5,9 @@ The engine owns the counting: every genotype an algorithm asks for is looked up 
 (VEGA's infections included); ``cache.budget`` says whether a cache hit is charged too. The
 best genotype ever evaluated is kept, with the trace of improvements at evaluation
 granularity (``improvements``: the evaluation count and value of every new best). After each
-generation it appends one history row and may write a checkpoint. The whole state lives in :class:`RunState` (the algorithm with the generator it draws from, the
-counters, the history), so a run resumed from a checkpoint continues with the very numbers an
+generation it appends one history row and may write a checkpoint. The whole state lives in
+:class:`RunState` (the algorithm with the generator it draws from, the counters, the cache,
+the history), so a run resumed from a checkpoint continues with the very numbers an
 uninterrupted run would have drawn.
 """
 
