@@ -87,7 +87,12 @@ def _newton(cutter, surface, uv, c, iterations):
         du = (m22 * gu - m12 * gv) / det
         dv = (m11 * gv - m12 * gu) / det
         dx = du[:, None] * xu + dv[:, None] * xv
-        cap = np.minimum(1.0, 0.5 * big / np.maximum(np.hypot(dx[:, 0], dx[:, 1]), 1e-300))
+        # at most R / 2 in XY, and (to first order) not past the rim: |d + cap dx| <= R
+        qa = np.maximum(np.einsum("ij,ij->i", dx, dx), 1e-300)
+        qb = 2 * np.einsum("ij,ij->i", d, dx)
+        qc = np.minimum(np.einsum("ij,ij->i", d, d) - big * big * (1 - 1e-12), 0.0)
+        to_rim = (-qb + np.sqrt(qb * qb - 4 * qa * qc)) / (2 * qa)
+        cap = np.minimum(np.minimum(1.0, 0.5 * big / np.sqrt(qa)), to_rim)
         step = np.stack([du, dv], 1) * cap[:, None]
         # monotone backtracking: accept the first halving that does not decrease f
         todo = np.arange(len(i))
@@ -123,7 +128,11 @@ def _seeds(cutter, grid, xy):
     f = grid.z[idx] - cutter.height_jet(s)[0]
     best = group_argmax(q, f, k)
     quad = (d[:, 0] >= 0).astype(np.int64) + 2 * (d[:, 1] >= 0)
-    per_quad = group_argmax(q * 4 + quad, f, 4 * k).reshape(k, 4)
+    per_quad = np.full((k, 4), -1, np.int64)
+    for j in range(4):  # masks keep q sorted: the linear-time grouping
+        sel = np.flatnonzero(quad == j)
+        arg = group_argmax(q[sel], f[sel], k)
+        per_quad[:, j] = np.where(arg >= 0, sel[np.maximum(arg, 0)], -1)
     best_f = np.where(best >= 0, f[np.maximum(best, 0)], -np.inf)
     slack = 0.1 * big
     quad_f = np.where(per_quad >= 0, f[np.maximum(per_quad, 0)], -np.inf)

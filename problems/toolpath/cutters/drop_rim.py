@@ -14,13 +14,24 @@ __all__ = ["group_argmax", "rim_candidates", "edge_candidates"]
 
 
 def group_argmax(key, val, n):
-    """Index of the largest ``val`` of each key in 0..n-1 (-1 where a key has none)."""
+    """Index of the largest ``val`` of each key in 0..n-1 (-1 where a key has none).
+
+    O(len) when ``key`` is non-decreasing (the grouped neighbour lists); a sort otherwise.
+    """
     out = np.full(n, -1, np.int64)
-    if len(key):
-        order = np.lexsort((val, key))
-        ks = key[order]
-        last = np.flatnonzero(np.r_[ks[1:] != ks[:-1], True])
-        out[ks[last]] = order[last]
+    if len(key) == 0:
+        return out
+    if np.all(key[1:] >= key[:-1]):
+        start = np.flatnonzero(np.r_[True, key[1:] != key[:-1]])
+        top = np.maximum.reduceat(val, start)
+        hit = np.flatnonzero(val == np.repeat(top, np.diff(np.r_[start, len(key)])))
+        first = hit[np.r_[True, key[hit[1:]] != key[hit[:-1]]]]
+        out[key[first]] = first
+        return out
+    order = np.lexsort((val, key))
+    ks = key[order]
+    last = np.flatnonzero(np.r_[ks[1:] != ks[:-1], True])
+    out[ks[last]] = order[last]
     return out
 
 
