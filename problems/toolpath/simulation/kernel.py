@@ -183,7 +183,7 @@ def _keep(fs, ks, iy, ix, f, k, near):
 
 @njit(cache=True, nogil=True)
 def sweep(res, x0, y0, h, pz, nrm, inside, vertical, tip, axis, pose_s, pose_ds, pose_lo,
-          pose_hi, pose_reach, R, r, n_slots, near, n_golden):
+          pose_hi, pose_reach, R, r, n_slots, near, n_golden, margin):
     """Lower ``res`` (ny, nx) to the deepest entry of the swept cutter; in place.
 
     Grid: cell (iy, ix) has its centre at (x0 + ix h, y0 + iy h), design point z ``pz``,
@@ -197,8 +197,10 @@ def sweep(res, x0, y0, h, pz, nrm, inside, vertical, tip, axis, pose_s, pose_ds,
     1. Stamp: every pose is evaluated on every cell within its reach; each cell keeps its
        ``n_slots`` best poses from different stretches of path (more than ``near`` poses
        apart: the passes and links that meet at a cusp or an edge).
-    2. Refine: around each kept pose, golden-section search over the neighbouring stretch
-       [s - ds, s + ds] (``n_golden`` iterations) finds the deepest pose in between.
+    2. Refine: around each kept pose whose stamped entry is within ``margin`` of the cell's
+       best stamp (no refinement between stamps can gain more), golden-section search over
+       the neighbouring stretch [s - ds, s + ds] (``n_golden`` iterations) finds the deepest
+       pose in between.
     """
     ny, nx = res.shape
     fs = np.full((n_slots, ny, nx), INF)
@@ -234,10 +236,12 @@ def sweep(res, x0, y0, h, pz, nrm, inside, vertical, tip, axis, pose_s, pose_ds,
             dx, dy, dz = _ray(iy, ix, vertical, nrm)
             best = res[iy, ix]
             for j in range(n_slots):
-                k = ks[j, iy, ix]
-                if k < 0:
-                    continue
                 best = min(best, fs[j, iy, ix])
+            stamped = best
+            for j in range(n_slots):
+                k = ks[j, iy, ix]
+                if k < 0 or fs[j, iy, ix] > stamped + margin:
+                    continue
                 lo, hi = pose_lo[k], pose_hi[k]
                 a = max(pose_s[k] - pose_ds[k], float(lo))
                 b = min(pose_s[k] + pose_ds[k], float(hi))
