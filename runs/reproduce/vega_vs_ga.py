@@ -22,6 +22,7 @@ Writes ``runs/reproduce/vega_vs_ga.md`` (what it prints).
 from __future__ import annotations
 
 import argparse
+import json
 import time
 from pathlib import Path
 
@@ -100,8 +101,12 @@ def one(title: str, path: Path, out: Path, args, rope: float, **changes) -> list
     t0 = time.perf_counter()
     run_study(study, str(path), out, backend=args.backend, workers=args.workers, progress=False)
     wall = time.perf_counter() - t0
+    log = json.loads((out / "execution.json").read_text())
+    ran = [e for e in log if e["ran"]]
+    made = "; ".join(f"{e['ran']} runs in {e['wall_seconds']:.0f} s on {e['backend']} ({e['workers']} workers)"
+                     for e in ran)
     lines = [f"## {title}", "", f"`{path.relative_to(RUNS.parent)}` into `{out}` ({study.seeds} seeds; "
-             f"{wall:.0f} s this invocation, finished runs reused)", ""]
+             f"{made}; {wall:.0f} s this invocation)", ""]
     return lines + study_tables(out)
 
 
@@ -115,8 +120,8 @@ def main() -> None:
     args = ap.parse_args()
     root = Path(args.out)
     lines = ["# VEGA against the GA at equal distinct-evaluation budgets", "",
-             "`python runs/reproduce/vega_vs_ga.py " + (f"--toolpath-seeds {args.toolpath_seeds} " if
-                                                        args.toolpath_seeds != 30 else "")
+             "`python runs/reproduce/vega_vs_ga.py " + (f"--out {args.out} " if args.out != "results/reproduce" else "")
+             + (f"--toolpath-seeds {args.toolpath_seeds} " if args.toolpath_seeds != 30 else "")
              + ("--table1" if args.table1 else "") + "`", "",
              "Values are Δf = f - f_opt where the optimum is known (Kubota: f_opt = 0; the 23-bit codec "
              "cannot code 0, its floor is 6.67e-13), else raw objective values.", ""]
