@@ -37,14 +37,19 @@ import numpy as np
 from numba import njit
 
 INF = np.inf
+#: a ray that misses a pose scores MISS + its distance outside the cutter's radius, so that a
+#: search along the path still moves towards where the pose reaches it (a flat end's sharp
+#: rim is only in reach over a short stretch); any score above MISS / 2 is a miss
+MISS = 1e6
 _GOLD = 0.5 * (math.sqrt(5.0) - 1.0)
 
 
 @njit(cache=True, nogil=True)
 def ray_entry(px, py, pz, dx, dy, dz, cx, cy, cz, ax, ay, az, R, r, cap=INF):
-    """Smallest t with p + t d inside the cutter (tip c, unit axis a, radii R, r); inf if none.
+    """Smallest t with p + t d inside the cutter (tip c, unit axis a, radii R, r).
 
-    A ray that does not climb along the axis (d . a <= 0) never enters from below: inf.
+    A ray that misses scores ``MISS`` plus how far outside the radius it passes; a ray that
+    does not climb along the axis (d . a <= 0) never enters from below: inf.
     ``cap``: the caller only needs entries below it; once the monotone Newton iterate passes
     it, that iterate (a lower bound of the entry, above the cap) is returned at once.
     """
@@ -97,6 +102,7 @@ def ray_entry(px, py, pz, dx, dy, dz, cx, cy, cz, ax, ay, az, R, r, cap=INF):
     if A < 1e-14:
         if C <= R * R and tw < best:
             best = tw
+        rho_min2 = C
     else:
         disc = B * B - A * (C - R * R)
         if disc >= 0.0:
@@ -104,7 +110,10 @@ def ray_entry(px, py, pz, dx, dy, dz, cx, cy, cz, ax, ay, az, R, r, cap=INF):
             t = max((-B - sq) / A, tw)
             if t <= (-B + sq) / A and t < best:
                 best = t
-    return best
+        rho_min2 = C - B * B / A
+    if best < INF:
+        return best
+    return MISS + max(math.sqrt(max(rho_min2, 0.0)) - R, 0.0)
 
 
 @njit(cache=True, nogil=True)
@@ -183,7 +192,7 @@ def _keep(fs, ks, iy, ix, f, k, near):
 
 @njit(cache=True, nogil=True)
 def sweep(res, x0, y0, h, pz, nrm, inside, vertical, tip, axis, pose_s, pose_ds, pose_lo,
-          pose_hi, pose_reach, R, r, n_slots, near, n_golden, margin):
+          pose_hi, pose_reach, R, r, n_slots, near, n_golden):
     """Lower ``res`` (ny, nx) to the deepest entry of the swept cutter; in place.
 
     Grid: cell (iy, ix) has its centre at (x0 + ix h, y0 + iy h), design point z ``pz``,
@@ -197,10 +206,10 @@ def sweep(res, x0, y0, h, pz, nrm, inside, vertical, tip, axis, pose_s, pose_ds,
     1. Stamp: every pose is evaluated on every cell within its reach; each cell keeps its
        ``n_slots`` best poses from different stretches of path (more than ``near`` poses
        apart: the passes and links that meet at a cusp or an edge).
-    2. Refine: around each kept pose whose stamped entry is within ``margin`` of the cell's
-       best stamp (no refinement between stamps can gain more), golden-section search over
-       the neighbouring stretch [s - ds, s + ds] (``n_golden`` iterations) finds the deepest
-       pose in between.
+    2. Refine: around each kept pose, golden-section search over the neighbouring stretch
+       [s - ds, s + ds] (``n_golden`` iterations) finds the deepest pose in between. Every
+       kept pose is refined: a sharp rim or a tilted cutter moving sideways makes the entry
+       a narrow V along the path, so no bound on what a stamp misses is safe.
     """
     ny, nx = res.shape
     fs = np.full((n_slots, ny, nx), INF)
@@ -220,6 +229,7 @@ def sweep(res, x0, y0, h, pz, nrm, inside, vertical, tip, axis, pose_s, pose_ds,
                 px = x0 + ix * h
                 if (px - cx) ** 2 + (py - cy) ** 2 > reach * reach:
                     continue
+                # an entry above the worst slot is never kept: Newton may stop once it passes
                 cap = fs[0, iy, ix]
                 for j in range(1, n_slots):
                     cap = max(cap, fs[j, iy, ix])
@@ -236,16 +246,14 @@ def sweep(res, x0, y0, h, pz, nrm, inside, vertical, tip, axis, pose_s, pose_ds,
             dx, dy, dz = _ray(iy, ix, vertical, nrm)
             best = res[iy, ix]
             for j in range(n_slots):
-                best = min(best, fs[j, iy, ix])
-            stamped = best
-            for j in range(n_slots):
                 k = ks[j, iy, ix]
-                if k < 0 or fs[j, iy, ix] > stamped + margin:
+                if k < 0:
                     continue
+                best = min(best, fs[j, iy, ix])
                 lo, hi = pose_lo[k], pose_hi[k]
                 a = max(pose_s[k] - pose_ds[k], float(lo))
                 b = min(pose_s[k] + pose_ds[k], float(hi))
                 if b > a:
                     best = min(best, _golden(a, b, lo, hi, tip, axis, px, py, pz[iy, ix],
                                              dx, dy, dz, R, r, n_golden))
-            res[iy, ix] = best
+            res[iy, ix] = best if best < 0.5 * MISS else INF

@@ -68,31 +68,28 @@ def poses(path: CLPath, pose_step: float):
     return s, ds, lo[pi].astype(np.int64), hi[pi].astype(np.int64)
 
 
-def refine_margin(pose_step: float, r: float) -> float:
-    """How much deeper than its stamps the continuous sweep can cut a cell between two poses
-    ``pose_step`` apart: the sagitta pose_step^2 / (8 r) of the corner arc, with a factor 4 of
-    safety and at least 0.05 mm (at most 0.25 mm, for the sharp rim of a flat end)."""
-    return float(np.clip(pose_step * pose_step / (2.0 * max(r, 0.05)), 0.05, 0.25))
-
-
 def sweep_path(path: CLPath, grid: DesignGrid, *, vertical: bool = False,
                pose_step: float | None = None, tol: float = 4e-3, n_slots: int = 3) -> Residual:
     """The residual of every cell after the whole path has been cut (see the module doc).
 
-    ``pose_step`` (mm of tip travel between stamped poses, default 0.75): the stamps only
-    pick, for each cell, the stretch of path where it is cut; golden-section search then
-    locates the deepest pose within that stretch to ``tol`` mm of travel. Against poses
-    0.2 mm apart refined to 5e-4 mm, the default differs by at most 0.0016 mm (torus D16
-    r3) and 0.0043 mm (ball D12), on 0.015 % and 0.006 % of the cells of Fountas' part,
-    where the path turns from a pass into a link (runs/bench/simulation_speed.py). ``n_slots``: how many stretches of path (passes, links) each cell
-    remembers as candidates.
+    ``pose_step`` (mm of tip travel between stamped poses; default 0.75, 0.25 for a flat end
+    whose sharp rim makes narrow dips along the path): the stamps only pick, for each cell,
+    the stretch of path where it is cut; golden-section search then locates the deepest
+    pose within that stretch to ``tol`` mm of travel. Measured on Fountas' part against
+    poses 0.05-0.2 mm apart refined to 2e-4-5e-4 mm (0.2 mm grid): torus D16 r3 at most
+    0.0016 mm off on 0.015 % of the cells, ball D12 0.0043 mm on 0.006 %, where a pass
+    turns into a link; flat D8 0.027 mm on 0.08 %, where the rim of the tilted cutter
+    passes a cell during a link move (a dip narrower than the stamps). ``n_slots``: how
+    many stretches of path (passes, links) each cell remembers as candidates.
     """
     t0 = time.perf_counter()
     R, r, h = path.radius, path.corner_radius, grid.h
     res = np.full(grid.shape, np.inf)
     if len(path) == 0:
         return Residual(res, vertical, 0.0)
-    pose_step = 0.75 if pose_step is None else float(pose_step)
+    if pose_step is None:
+        pose_step = 0.75 if r >= 0.5 else 0.25
+    pose_step = float(pose_step)
     s, ds, lo, hi = poses(path, pose_step)
     pi = np.minimum(np.floor(s).astype(np.int64), len(path) - 1)
     sin_tilt = np.sqrt(np.clip(1.0 - path.axis[:, 2] ** 2, 0.0, 1.0))
@@ -100,6 +97,6 @@ def sweep_path(path: CLPath, grid: DesignGrid, *, vertical: bool = False,
     n_golden = max(int(np.ceil(np.log(tol / (2.0 * pose_step)) / np.log(0.5 * (np.sqrt(5) - 1)))), 1)
     sweep(res, grid.x0, grid.y0, h, grid.z, grid.normal, grid.inside, bool(vertical),
           path.tip, path.axis, s, ds, lo, hi, reach, float(R), float(r), int(n_slots), 2,
-          n_golden, refine_margin(pose_step, r))
+          n_golden)
     res[~grid.inside] = np.nan
     return Residual(res, bool(vertical), time.perf_counter() - t0, len(s))

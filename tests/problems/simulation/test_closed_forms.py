@@ -6,7 +6,7 @@ import pytest
 
 from evoplan.problems.toolpath.clpath import CLPath
 from evoplan.problems.toolpath.simulation import analytic_grid, simulate, sweep_path
-from evoplan.problems.toolpath.simulation.kernel import ray_entry
+from evoplan.problems.toolpath.simulation.kernel import MISS, ray_entry
 
 H = 0.05
 
@@ -42,7 +42,9 @@ def test_ray_entry_ball_torus_flat_vertical():
             want = 0.0 if rho <= R - r else r - np.sqrt(r * r - (rho - R + r) ** 2)
             got = ray_entry(rho, 0.0, -5.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0, R, r)
             assert got - 5.0 == pytest.approx(want, abs=1e-9)
-        assert ray_entry(R + 0.01, 0.0, -5.0, 0.0, 0.0, 1.0, 0, 0, 0, 0, 0, 1.0, R, r) == np.inf
+        # a miss scores MISS plus how far outside the radius the ray passes
+        miss = ray_entry(R + 0.01, 0.0, -5.0, 0.0, 0.0, 1.0, 0, 0, 0, 0, 0, 1.0, R, r)
+        assert miss == pytest.approx(MISS + 0.01)
 
 
 @pytest.mark.parametrize("s", [1.0, 2.0, 3.0])
