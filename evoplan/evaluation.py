@@ -14,6 +14,8 @@ from dataclasses import dataclass, field
 import numpy as np
 from pymoo.core.problem import Problem
 
+from .errors import EvoplanError
+
 
 @dataclass
 class Evaluation:
@@ -22,6 +24,19 @@ class Evaluation:
     f: np.ndarray
     failed: np.ndarray
     errors: list[str] = field(default_factory=list)
+
+
+class ObjectiveShapeError(EvoplanError):
+    """The objective returned an array of the wrong shape: a bug of the problem, not of a row."""
+
+
+def objective_shape_error(e: BaseException) -> ObjectiveShapeError | None:
+    """pymoo's shape check (a bare ``Exception('Problem Error: F can not be set, expected shape
+    (n, k) but provided (...)')``) as a one-line error naming both shapes; else ``None``."""
+    text = str(e.args[0]) if type(e) is Exception and e.args else ""
+    if not (text.startswith("Problem Error:") and "can not be set" in text):
+        return None
+    return ObjectiveShapeError(f"problem: the objective returned {text.removeprefix('Problem Error:').strip()}")
 
 
 class Evaluator:
@@ -53,12 +68,14 @@ class Evaluator:
         errors: list[str] = []
         try:
             f = self._scalar(X)
-        except Exception as batch_error:  # isolate the failing rows
+        except (Exception, SystemExit) as batch_error:  # isolate the failing rows (sys.exit too)
+            if (shape := objective_shape_error(batch_error)) is not None:
+                raise shape from None  # the problem is wrong, not the individuals: stop the run
             f = np.empty(len(X))
             for i, row in enumerate(X):
                 try:
                     f[i] = self._scalar(row[None, :])[0]
-                except Exception as e:  # noqa: BLE001 - a black box may raise anything
+                except (Exception, SystemExit) as e:  # noqa: BLE001 - a black box may raise anything
                     f[i] = np.nan
                     errors.append(f"{type(e).__name__}: {e}")
             if not errors:  # the batch failed but no row did: report the batch error

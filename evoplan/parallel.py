@@ -15,18 +15,15 @@ scheduler answers, or a scheduler without workers, is a one-line :class:`Evoplan
 from __future__ import annotations
 
 import logging
-import multiprocessing
 import os
-import pickle
-import uuid
-from concurrent.futures import ProcessPoolExecutor
-from concurrent.futures import as_completed as futures_completed
+import time
 from typing import Any, Callable, Iterable, Iterator
 
 import numpy as np
 
 from .errors import EvoplanError
 from .evaluation import Evaluation
+from .process_pool import ProcessPool, _outcome
 
 SCHEDULER_TIMEOUT = 5.0  # seconds to reach a scheduler, and to see its first worker
 
@@ -53,6 +50,7 @@ class SerialPool:
     """Everything in the calling process, in order (the reference the others must match)."""
 
     name = "serial"
+    timeout = None  # a task in this process cannot be stopped
 
     def __init__(self, workers: int | None = None, scheduler: str | None = None) -> None:
         self.workers = 1
@@ -75,58 +73,11 @@ class SerialPool:
         pass
 
 
-def _outcome(future):
-    """A task's result, or the exception it ended with (one chunk's loss is not the batch's)."""
-    try:
-        return future.result()
-    except Exception as e:  # noqa: BLE001 - reported as failures of the chunk's rows
-        return e
-
-
-_BOUND: dict[str, Callable] = {}  # a worker process's bound callables, by token
-
-
-def _call_blob(token: str, blob: bytes, arg):
-    """Run a bound callable in a worker process, unpickling it on the worker's first call."""
-    fn = _BOUND.get(token)
-    if fn is None:
-        _BOUND.clear()  # one bound evaluator at a time per worker
-        fn = _BOUND[token] = pickle.loads(blob)
-    return fn(arg)
-
-
-class ProcessPool:
-    """Local worker processes (``concurrent.futures``), started by a fork server."""
-
-    name = "processes"
-
-    def __init__(self, workers: int | None = None, scheduler: str | None = None) -> None:
-        self.workers = workers or os.cpu_count() or 1
-        ctx = multiprocessing.get_context("forkserver")
-        ctx.set_forkserver_preload(["evoplan.study.cell"])
-        self.executor = ProcessPoolExecutor(max_workers=self.workers, mp_context=ctx)
-
-    def submit(self, fn: Callable, *args):
-        return self.executor.submit(fn, *args)
-
-    def as_completed(self, futures: Iterable) -> Iterator:
-        return futures_completed(list(futures))
-
-    def bind(self, obj: Callable) -> tuple[str, bytes]:
-        return uuid.uuid4().hex, pickle.dumps(obj, protocol=pickle.HIGHEST_PROTOCOL)
-
-    def call(self, handle: tuple[str, bytes], chunks: list) -> list:
-        futures = [self.executor.submit(_call_blob, *handle, c) for c in chunks]
-        return [_outcome(f) for f in futures]
-
-    def close(self) -> None:
-        self.executor.shutdown(wait=True, cancel_futures=True)
-
-
 def _call(fn: Callable, arg):
     return fn(arg)
 
 
+LOST = {"FutureCancelledError", "CancelledError"}  # a task lost with its worker or its input, not failed
 QUIET_WORKERS = {"distributed.worker.profile.enabled": False}
 
 
@@ -144,6 +95,7 @@ class DaskPool:
     """Dask distributed: a local cluster of ``workers`` processes, or the scheduler at an address."""
 
     name = "dask"
+    timeout: float | None = None  # seconds per row a chunk may run (evaluation.timeout_s)
 
     def __init__(self, workers: int | None = None, scheduler: str | None = None, label: str = "--scheduler") -> None:
         try:
@@ -182,14 +134,50 @@ class DaskPool:
 
         return as_completed(list(futures), loop=self.client.loop)
 
-    def bind(self, obj: Callable):
-        return self.client.scatter(obj, broadcast=True, hash=False)
+    def bind(self, obj: Callable) -> list:
+        """``[obj, its scattered future]``; scattered again if a restarted worker lost every copy."""
+        return [obj, self.client.scatter(obj, broadcast=True, hash=False)]
 
-    def call(self, handle, chunks: list) -> list:
+    def call(self, handle: list, chunks: list) -> list:
+        """Results of the chunks; chunks lost with a dying worker are run again one at a time, so
+        that only the chunk that kills its worker (Dask's ``KilledWorker``) fails."""
+        results = self._call(handle, chunks)
+        for i in [i for i, r in enumerate(results) if type(r).__name__ in LOST]:
+            results[i] = self._call(handle, [chunks[i]])[0]
+        return results
+
+    def _call(self, handle: list, chunks: list) -> list:
+        if handle[1].status != "finished":  # workers restarted (a timeout, a dead worker)
+            handle[1] = self.client.scatter(handle[0], broadcast=True, hash=False)
         # one graph message out and one gather back (not a round trip per chunk)
-        futures = self.client.map(_call, [handle] * len(chunks), chunks, pure=False)
+        futures = self.client.map(_call, [handle[1]] * len(chunks), chunks, pure=False)
+        if self.timeout is not None:
+            return self._call_with_timeout(futures, chunks)
         done = iter(self.client.gather(futures, errors="skip"))
         return [next(done) if f.status == "finished" else _outcome(f) for f in futures]
+
+    def _call_with_timeout(self, futures: list, chunks: list) -> list:
+        """Results of ``futures``; those still running after their time fail, their workers restart."""
+        rounds = -(-len(chunks) // max(self.workers, 1))
+        deadline = time.monotonic() + self.timeout * max((len(c) for c in chunks), default=1) * rounds
+        results = []
+        for f in futures:
+            try:
+                results.append(f.result(timeout=max(deadline - time.monotonic(), 0.0)))
+            except (Exception, SystemExit) as e:  # noqa: BLE001 - a failure of this chunk's rows
+                late = f.status not in ("finished", "error", "cancelled", "lost")
+                results.append(TimeoutError(f"no result within timeout_s = {self.timeout:g} s per row")
+                               if late else e)
+        late = [f for f, r in zip(futures, results) if isinstance(r, TimeoutError)]
+        if late:
+            busy = [w for w, keys in self.client.processing().items() if {f.key for f in late} & set(keys)]
+            self.client.cancel(late, force=True)
+            if busy:  # a Python thread cannot be stopped: restart the workers that run it
+                try:
+                    self.client.restart_workers(busy, timeout=30)
+                except Exception:  # noqa: BLE001 - workers without a nanny cannot restart
+                    pass
+        return results
 
     def close(self) -> None:
         self.client.close()
@@ -237,10 +225,14 @@ class ParallelEvaluator:
 
     def __call__(self, X: np.ndarray) -> Evaluation:
         parts = np.array_split(np.asarray(X), min(len(X), self.chunks)) if len(X) else [X]
+        outcomes = self.pool.call(self._handle, parts)
+        for r in outcomes:
+            if isinstance(r, EvoplanError):  # the problem is wrong (e.g. the objective's shape): stop
+                raise r
         results = [
             r if isinstance(r, Evaluation) else _failed(len(part), f"evaluation backend {self.pool.name}: "
                                                                    f"{type(r).__name__}: {r}")
-            for part, r in zip(parts, self.pool.call(self._handle, parts))
+            for part, r in zip(parts, outcomes)
         ]
         errors = list(dict.fromkeys(m for r in results for m in r.errors))
         return Evaluation(np.concatenate([r.f for r in results]), np.concatenate([r.failed for r in results]), errors)

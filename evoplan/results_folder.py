@@ -66,10 +66,10 @@ def claim(out: Path, new: bool) -> FolderClaim:
             raise ConfigError(f"{out}: another evoplan run is writing into this folder") from None
         raise ConfigError(f"{out}: cannot lock the results folder ({_os_message(e)})") from None
     c = FolderClaim(out, fd, created)
+    remove_stale_temp(out)  # a killed run's half-written files, before the folder is judged empty
     if new and any(out.iterdir()):
         c.release()
         raise ConfigError(f"{out}: already exists and is not empty: choose another --out, or --resume it")
-    remove_stale_temp(out)
     return c
 
 

@@ -28,7 +28,7 @@ from .checkpoint import read as read_checkpoint
 from .config import REGISTRY, RunConfig, load_config, read_yaml
 from .engine import HISTORY_COLUMNS, Checkpointer, RunState, Termination, run, write_atomic
 from .errors import ConfigError, EvoplanError
-from .evaluation import Evaluator
+from .evaluation import Evaluator, ObjectiveShapeError
 from .multiobjective import add_hypervolume, connect, evaluator_for, write_front
 from .parallel import ParallelEvaluator, open_pool
 from .limits import check_population
@@ -100,10 +100,15 @@ def default_out(config: RunConfig) -> Path:
     return Path("results") / f"{config.name}-seed{config.seed}-{stamp}"
 
 
-def start_folder(prepared: Prepared, out: Path) -> FolderClaim:
-    """Create and lock ``out`` for a new run; refuse a folder that holds files or another run's lock."""
+def start_folder(prepared: Prepared, out: Path, state: RunState, checkpointer: Checkpointer) -> FolderClaim:
+    """Create and lock ``out`` for a new run: its first checkpoint, then ``config.yaml``.
+
+    Refuses a folder that holds files or that another run holds. A run killed at any point
+    leaves a folder that is either empty (start it again) or holds a checkpoint (resume it).
+    """
     folder = claim(out, new=True)
     try:
+        checkpointer.save(state)  # generation 0: resumable before the first evaluation
         write_atomic(out / "config.yaml", yaml.safe_dump(prepared.config.resolved(), sort_keys=False).encode())
     except OSError as e:
         folder.abandon()
@@ -119,7 +124,8 @@ def resume_state(prepared: Prepared, out: Path) -> RunState:
     """
     path = out / CHECKPOINT
     if not path.is_file():
-        raise ConfigError(f"{out}: no {CHECKPOINT} to resume from")
+        hint = f" (killed before its first checkpoint: start it again with --out {out})" if out.is_dir() else ""
+        raise ConfigError(f"{out}: no {CHECKPOINT} to resume from{hint}")
     try:
         meta, arrays = read_checkpoint(path)
     except CheckpointError as e:
@@ -156,19 +162,23 @@ def execute(prepared: Prepared, out: Path, resume: bool = False, progress: bool 
                      timeout=e.timeout_s) if e.backend != "serial" else None
     folder = None
     try:
+        checkpointer = Checkpointer(out / CHECKPOINT, cfg.checkpoint.every_generations, cfg.checkpoint.every_seconds)
         if state is None:
-            folder = start_folder(prepared, out)
             state = prepared.new_state()
+            connect(prepared.evaluator, state.algorithm, prepared.search.decode)
+            folder = start_folder(prepared, out, state, checkpointer)
         else:
             folder = claim(out, new=False)
-        connect(prepared.evaluator, state.algorithm, prepared.search.decode)
-        checkpointer = Checkpointer(out / CHECKPOINT, cfg.checkpoint.every_generations, cfg.checkpoint.every_seconds)
-        if not resume:
-            checkpointer.save(state)  # generation 0: resumable before the first evaluation
+            connect(prepared.evaluator, state.algorithm, prepared.search.decode)
         evaluator = ParallelEvaluator(prepared.evaluator, pool, e.chunks) if pool else prepared.evaluator
         with _progress_bar(prepared.termination, state, progress) as update:
             run(state, prepared.search, evaluator, prepared.termination, checkpointer, update)
         write_results(prepared, state, out)
+    except ObjectiveShapeError as err:  # a bug of the problem, found in the first batch
+        if folder is not None and not state.history:
+            folder.abandon()  # nothing of the run is worth keeping
+            folder = None
+        raise EvoplanError(f"{prepared.source}: {err}") from None
     except OSError as err:
         if err.errno not in DISK_ERRORS:
             raise
@@ -233,10 +243,10 @@ def best_record(prepared: Prepared, state: RunState) -> dict:
 
 
 def write_results(prepared: Prepared, state: RunState, out: Path) -> None:
+    """The results files; ``best.json`` last, so that it marks a run whose results are all written."""
     history = history_frame(state)
     write_atomic(out / "history.csv", history.to_csv(index=False).encode())
     record = best_record(prepared, state)
-    write_atomic(out / "best.json", (json.dumps(record, indent=2) + "\n").encode())
     if prepared.config.output.plot:
         from .plots import convergence_png  # matplotlib loads only when a figure is drawn
 
@@ -244,6 +254,7 @@ def write_results(prepared: Prepared, state: RunState, out: Path) -> None:
         write_atomic(out / "convergence.png", convergence_png(history, title, prepared.config.problem.name))
     write_artifacts(prepared, state, out)
     write_front(prepared, state.algorithm, out)
+    write_atomic(out / "best.json", (json.dumps(record, indent=2) + "\n").encode())
 
 
 def write_artifacts(prepared: Prepared, state: RunState, out: Path) -> None:

@@ -46,7 +46,7 @@ def main(args: argparse.Namespace) -> int:
     out = Path(args.resume or args.out or default_out(prepared.config))
     if args.resume:
         state = resume_state(prepared, out)
-        if state.stop_reason is not None:
+        if state.stop_reason is not None and (out / "best.json").is_file():  # else: killed while writing results
             print(f"evoplan: {out}: this run is finished (stopped by {state.stop_reason} after "
                   f"{state.evaluations} evaluations, generation {state.algorithm.generation}); "
                   "nothing to resume", file=sys.stderr)

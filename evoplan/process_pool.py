@@ -1,0 +1,143 @@
+"""Local worker processes that survive their tasks: dead workers, hanging tasks, a dying parent.
+
+:class:`ProcessPool` wraps ``concurrent.futures.ProcessPoolExecutor`` (workers started by a
+fork server) with what an expensive, possibly badly behaved black box needs:
+
+- **a worker that dies** (``os._exit``, a segfault, the OOM killer) breaks a
+  ``ProcessPoolExecutor`` for good: every pending task fails and no new one is accepted. The
+  pool is rebuilt, and the chunks that were lost are run again one at a time, so only the
+  chunk that kills its worker again is reported as failed (its rows count as failures);
+- **a task that hangs**: with ``timeout`` (``evaluation.timeout_s``, seconds per row), a batch
+  whose chunks are not back in time has its workers killed; the late chunks fail with a
+  ``TimeoutError``, the finished ones keep their results, and the pool is rebuilt;
+- **the parent dies** (SIGKILL included): each worker runs a watchdog thread that ends the
+  worker within a second of the parent's disappearance, so no orphan keeps computing;
+- **close** never waits for a hanging task: the workers are killed.
+"""
+
+from __future__ import annotations
+
+import math
+import multiprocessing
+import os
+import pickle
+import threading
+import time
+import uuid
+from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures import as_completed as futures_completed
+from concurrent.futures import wait as futures_wait
+from concurrent.futures.process import BrokenProcessPool
+from typing import Callable, Iterable, Iterator
+
+WATCH_INTERVAL = 0.5  # seconds between a worker's checks that its parent is alive
+
+
+def _outcome(future):
+    """A task's result, or the exception it ended with (one chunk's loss is not the batch's)."""
+    try:
+        return future.result()
+    except (Exception, SystemExit) as e:  # noqa: BLE001 - reported as failures of the chunk's rows
+        return e
+
+
+def _watch_parent(parent: int) -> None:
+    """Worker initializer: exit as soon as the process ``parent`` is gone."""
+    def watch() -> None:
+        while True:
+            time.sleep(WATCH_INTERVAL)
+            try:
+                os.kill(parent, 0)
+            except ProcessLookupError:
+                os._exit(1)
+            except PermissionError:  # the pid now belongs to another user's process: ours is gone
+                os._exit(1)
+
+    threading.Thread(target=watch, name="evoplan-parent-watch", daemon=True).start()
+
+
+_BOUND: dict[str, Callable] = {}  # a worker process's bound callables, by token
+
+
+def _call_blob(token: str, blob: bytes, arg):
+    """Run a bound callable in a worker process, unpickling it on the worker's first call."""
+    fn = _BOUND.get(token)
+    if fn is None:
+        _BOUND.clear()  # one bound evaluator at a time per worker
+        fn = _BOUND[token] = pickle.loads(blob)
+    return fn(arg)
+
+
+class ProcessPool:
+    """Local worker processes (``concurrent.futures``), started by a fork server."""
+
+    name = "processes"
+
+    def __init__(self, workers: int | None = None, scheduler: str | None = None) -> None:
+        self.workers = workers or os.cpu_count() or 1
+        self.timeout: float | None = None
+        self.rebuilds = 0
+        self._ctx = multiprocessing.get_context("forkserver")
+        self._ctx.set_forkserver_preload(["evoplan.study.cell"])
+        self.executor = self._start()
+
+    def _start(self) -> ProcessPoolExecutor:
+        return ProcessPoolExecutor(max_workers=self.workers, mp_context=self._ctx,
+                                   initializer=_watch_parent, initargs=(os.getpid(),))
+
+    def _kill(self) -> None:
+        """Stop every worker now (running tasks included) and forget the executor."""
+        processes = list((getattr(self.executor, "_processes", None) or {}).values())
+        self.executor.shutdown(wait=False, cancel_futures=True)
+        for p in processes:
+            if p.is_alive():
+                p.kill()
+        for p in processes:
+            p.join(timeout=5)
+
+    def _rebuild(self) -> None:
+        self._kill()
+        self.executor = self._start()
+        self.rebuilds += 1
+
+    def submit(self, fn: Callable, *args):
+        return self.executor.submit(fn, *args)
+
+    def as_completed(self, futures: Iterable) -> Iterator:
+        return futures_completed(list(futures))
+
+    def bind(self, obj: Callable) -> tuple[str, bytes]:
+        return uuid.uuid4().hex, pickle.dumps(obj, protocol=pickle.HIGHEST_PROTOCOL)
+
+    def call(self, handle: tuple[str, bytes], chunks: list) -> list:
+        results = self._run(handle, chunks)
+        lost = [i for i, r in enumerate(results) if isinstance(r, BrokenProcessPool)]
+        if lost:
+            self._rebuild()
+            for i in lost:  # alone, so that only the chunk that kills its worker fails
+                r = self._run(handle, [chunks[i]])[0]
+                if isinstance(r, BrokenProcessPool):
+                    self._rebuild()
+                    r = ChildProcessError("the worker process died while evaluating these rows")
+                results[i] = r
+        return results
+
+    def _run(self, handle: tuple[str, bytes], chunks: list) -> list:
+        try:
+            futures = [self.executor.submit(_call_blob, *handle, c) for c in chunks]
+        except BrokenProcessPool as e:  # broken before this batch (a study's task killed it)
+            return [e] * len(chunks)
+        if self.timeout is None:
+            return [_outcome(f) for f in futures]
+        rounds = math.ceil(len(chunks) / self.workers)
+        limit = self.timeout * max((len(c) for c in chunks), default=1) * rounds
+        _, late = futures_wait(futures, timeout=limit)
+        if not late:
+            return [_outcome(f) for f in futures]
+        results = [TimeoutError(f"no result within timeout_s = {self.timeout:g} s per row")
+                   if f in late else _outcome(f) for f in futures]
+        self._rebuild()  # the late tasks' workers are still busy: kill them
+        return results
+
+    def close(self) -> None:
+        self._kill()
