@@ -119,6 +119,8 @@ def ray_entry(px, py, pz, dx, dy, dz, cx, cy, cz, ax, ay, az, R, r, cap=INF):
 @njit(cache=True, nogil=True)
 def _pose(s, lo, hi, tip, axis):
     """Tip and unit axis at path position s in [lo, hi] (linear interpolation)."""
+    if hi <= lo:  # a section of one point
+        return tip[lo, 0], tip[lo, 1], tip[lo, 2], axis[lo, 0], axis[lo, 1], axis[lo, 2]
     j = int(math.floor(s))
     if j >= hi:
         j = hi - 1

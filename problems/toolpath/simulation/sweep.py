@@ -53,9 +53,9 @@ def poses(path: CLPath, pose_step: float):
     k = np.arange(move.size) - start[move]
     s = move + k / n[move]
     ds = 1.0 / n[move]
-    # the last point of each section is a pose too
-    ends = np.flatnonzero(np.r_[feed, False] & ~np.r_[feed[1:], False, False][: len(path)]) + 1
-    ends = ends[ends < len(path)]
+    # the last point of each section of several points is a pose too
+    idx = np.arange(len(path))
+    ends = idx[(idx == hi) & (lo < hi)]
     s = np.r_[s, ends.astype(float)]
     ds = np.r_[ds, 1.0 / n[ends - 1]] if len(ends) else ds
     order = np.argsort(s, kind="stable")
