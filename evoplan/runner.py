@@ -229,6 +229,7 @@ def best_record(prepared: Prepared, state: RunState) -> dict:
     return {
         **best,
         "evaluations": state.evaluations,
+        "cache_hits": state.cache_hits,  # genotypes answered by the cache (see cache.budget)
         "generations": state.algorithm.generation,
         "failures": state.failures,
         "failure_messages": state.errors,

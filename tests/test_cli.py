@@ -50,6 +50,7 @@ def test_run_writes_every_result_file(tmp_path):
     history = pd.read_csv(out / "history.csv")
     assert list(history.columns) == ["generation", "evaluations", "best", "mean", "worst", "std", "failures", "cache_hits", "seconds"]
     assert len(history) == 11 and history["evaluations"].iloc[-1] == best["evaluations"]
+    assert history["cache_hits"].iloc[-1] == best["cache_hits"] > 0
     assert best["objective"] == pytest.approx(history["best"].iloc[-1])
     assert (out / "convergence.png").read_bytes()[:4] == b"\x89PNG"
     resolved = (out / "config.yaml").read_text()
