@@ -25,7 +25,7 @@ from .adapters import ADAPTERS
 from .algorithms import ALGORITHMS
 from .cache import CacheConfig
 from .errors import ConfigError
-from .safe_yaml import load_file, short
+from .safe_yaml import key_text, load_file, short
 
 
 class _Strict(BaseModel):
@@ -143,7 +143,7 @@ def read_yaml(path: str | Path) -> dict[str, Any]:
 def format_validation_error(error: ValidationError, source: str) -> str:
     """The first error of a pydantic validation as ``source: key.path: message (got value)``."""
     first = error.errors()[0]
-    loc = [str(p)[:60] for p in first["loc"]]
+    loc = [key_text(p) for p in first["loc"]]
     if len(loc) > 1 and loc[0] == "algorithm" and first["type"] != "union_tag_invalid":
         del loc[1]  # the discriminator tag pydantic inserts ("algorithm.vega.virus...")
     got = first.get("input")

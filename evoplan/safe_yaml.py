@@ -112,6 +112,12 @@ def short(value: Any) -> str:
     return _short.repr(value)
 
 
+def key_text(key: Any) -> str:
+    """A key of a key path as printed in an error: itself if short and printable, else its short repr."""
+    text = str(key)
+    return text if text.isprintable() and len(text) <= 60 else short(key)
+
+
 def load_text(text: str, source: str) -> Any:
     """The data of YAML ``text``; any failure is one ``ConfigError`` line naming ``source``."""
     if len(text) > MAX_BYTES:

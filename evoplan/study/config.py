@@ -35,7 +35,7 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_valida
 from ..cache import CacheConfig
 from ..config import REGISTRY, SafeName, TerminationConfig, VariableOverride, read_yaml
 from ..errors import ConfigError
-from ..safe_yaml import short
+from ..safe_yaml import key_text, short
 from ..problem_factory import build_space, make_problem
 from .bbob import resolve_problem_name
 
@@ -113,7 +113,7 @@ class StudyConfig(_Strict):
 def _loc(loc: tuple) -> str:
     out = ""
     for part in loc:
-        out += f"[{part}]" if isinstance(part, int) else (f".{part}" if out else str(part))
+        out += f"[{part}]" if isinstance(part, int) else (f".{key_text(part)}" if out else key_text(part))
     return out
 
 
