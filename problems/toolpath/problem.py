@@ -184,8 +184,8 @@ class ToolpathProblem(Problem):
         if self.simulated is not None and len(X):
             rows = []
             for x in X:
-                flat = self.tool_db.tools[int(round(x[0]))].type == "flat"
-                rows.append(self.simulated.measure(self.simulator.cl_path(x), flat))
+                sharp_rim = self.tool_db.cutter(int(round(x[0]))).sharp_rim
+                rows.append(self.simulated.measure(self.simulator.cl_path(x), sharp_rim))
             for name in rows[0]:
                 crit[name] = np.array([row[name] for row in rows])
         return crit

@@ -15,8 +15,9 @@ Criteria (each (n,), see :data:`CRITERIA`), per toolpath:
   adjacent passes, from the projected cutter profile, the surface spacing of the CC points
   across the feed and the normal curvature across the feed (``scallop.py``), per CC point.
 - ``gouge_max``: depth cut below the surface there (profile flatter than a concave section).
-- ``undercut_max``: for flat-end tools, the scallop (left by the sharp rim and the inclined
-  bottom: Fountas' h_u after Bedi et al. 1996); 0 for the other tools.
+- ``undercut_max``: for cutters with a sharp rim (flat-end, ``Cutter.sharp_rim``), the
+  scallop (left by the rim and the inclined bottom: Fountas' h_u after Bedi et al. 1996);
+  0 for the other tools.
 - ``machining_error`` / ``machining_error_mean``: combined surface machining error at a CC
   point (Fountas Fig. 1) = chord error (larger of its two segments) + scallop + gouge; max
   and mean over the CC points.
@@ -84,14 +85,15 @@ class ToolpathSimulator:
         self.allowance = float(allowance)
         self.max_rounds = int(max_rounds)
         self.geometry = PassGeometry(surface, feed_angle)
+        self._sharp_rim = np.array([c.sharp_rim for c in tools.cutters], dtype=bool)
 
     def decode(self, X) -> dict:
-        """Columns of X (n, 5) to per-row arrays: tool index, R, r, kind, delta (XY
-        step-over, mm), lead, tilt (radians), step (mm)."""
+        """Columns of X (n, 5) to per-row arrays: tool index, R, r, sharp_rim (the cutter's),
+        delta (XY step-over, mm), lead, tilt (radians), step (mm)."""
         X = np.atleast_2d(np.asarray(X, float))
         ti = np.clip(np.rint(X[:, 0]).astype(int), 0, len(self.tools) - 1)
         R, r = self.tools.R[ti], self.tools.r[ti]
-        return dict(tool=ti, R=R, r=r, kind=self.tools.kind[ti], delta=X[:, 1] / 100 * 2 * R,
+        return dict(tool=ti, R=R, r=r, sharp_rim=self._sharp_rim[ti], delta=X[:, 1] / 100 * 2 * R,
                     lead=np.radians(X[:, 2]), tilt=np.radians(X[:, 3]), step=X[:, 4])
 
     def run(self, X):
@@ -123,7 +125,7 @@ class ToolpathSimulator:
         err = pb.chord + scallop + gouge
         crit = self._reduce(pb, ind, scallop, gouge, err)
         crit["r_eff"] = effective_radius_lead_tilt(g["R"], g["r"], g["lead"], g["tilt"])
-        crit["undercut_max"] = np.where(g["kind"] == 0, crit["scallop_max"], 0.0)
+        crit["undercut_max"] = np.where(g["sharp_rim"], crit["scallop_max"], 0.0)
         crit["cutting_length"] = cutting_length(pb)
         crit["link_length"] = link_length(pb)
         crit["path_length"] = crit["cutting_length"] + crit["link_length"]
@@ -173,12 +175,8 @@ class ToolpathSimulator:
         lead, tilt = g["lead"][0], g["tilt"][0]
         axis = (np.sin(lead) * t + np.cos(lead) * np.sin(tilt) * b
                 + np.cos(lead) * np.cos(tilt) * nrm)
-        R, r = g["R"][0], g["r"][0]
-        e = -nrm + np.einsum("ij,ij->i", nrm, axis)[:, None] * axis
-        en = np.linalg.norm(e, axis=-1, keepdims=True)
-        e = np.where(en > 1e-12, e / np.where(en > 0, en, 1.0), 0.0)
         points = pb.p[order]
-        tip = points + r * nrm - (R - r) * e - r * axis
+        tip = self.tools.cutter(g["tool"][0]).cc_to_tip(points, nrm, axis)
         return CCPattern(points=points, normals=nrm, pass_index=pb.pass_k[pb.pt_pass][order],
                          tangent=t, axis=axis, tool_tip=tip,
                          uv=np.stack([pb.u, pb.v], axis=1)[order],

@@ -1,8 +1,9 @@
-"""Cutters (flat-end, ball-end, toroidal) and the tool database.
+"""The tool database: an ordered list of cutters with unique ids.
 
-A cutter is its diameter D and corner radius r: r = 0 flat-end, r = D/2 ball-end,
-0 < r < D/2 toroidal (bull-nose). A database is an ordered list of cutters with unique ids;
-the optimizer's tool gene is an INDEX into it (0 .. n-1), reported as the tool's id.
+A cutter is its diameter D and corner radius r (r = 0 flat-end, r = D/2 ball-end,
+0 < r < D/2 toroidal); its shape is the registered :class:`~.cutters.Cutter` that
+:func:`~.cutters.make_cutter` infers from (D, r). The optimizer's tool gene is an INDEX into
+the database (0 .. n-1), reported as the tool's id.
 
 Default database: Fountas et al. (Experimental validation) used nine tools, "three sets of
 flat-end, ball-end and toroidal tools; having 8 mm, 12 mm and 16 mm each", and its Table 2
@@ -20,26 +21,32 @@ only the 16 mm tool's Rc 3).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from .checks import number
+from .cutters import Cutter, make_cutter
 
 __all__ = ["Tool", "ToolDatabase", "DEFAULT_TOOLS", "parse_tools"]
-
-_TYPES = ("flat", "ball", "toroidal")
 
 
 @dataclass(frozen=True)
 class Tool:
-    """One cutter: id, diameter D (mm), corner radius r (mm), type (derived, checked)."""
+    """One database entry: id, diameter D (mm), corner radius r (mm), type (the cutter's
+    kind), name, and its :class:`~.cutters.Cutter`."""
 
     id: int
     diameter: float
     corner_radius: float
     type: str
     name: str = ""
+    cutter: Cutter | None = field(default=None, compare=False, repr=False)
+
+    def __post_init__(self):
+        if self.cutter is None:
+            object.__setattr__(self, "cutter", make_cutter(self.diameter, self.corner_radius,
+                                                           self.type))
 
     @property
     def radius(self) -> float:
@@ -63,17 +70,22 @@ DEFAULT_TOOLS = [
 
 
 class ToolDatabase:
-    """Ordered cutters; array views ``R``, ``r``, ``ids`` for vectorized lookups by index."""
+    """Ordered tools; their cutters (:meth:`cutter`, ``cutters``) and array views ``R``
+    (radius), ``r`` (corner radius), ``ids`` for vectorized lookups by index."""
 
     def __init__(self, tools: list[Tool]):
         self.tools = list(tools)
+        self.cutters = [t.cutter for t in self.tools]
         self.ids = np.array([t.id for t in self.tools], dtype=int)
-        self.R = np.array([t.radius for t in self.tools], dtype=float)
-        self.r = np.array([t.corner_radius for t in self.tools], dtype=float)
-        self.kind = np.array([_TYPES.index(t.type) for t in self.tools], dtype=int)
+        self.R = np.array([c.radius for c in self.cutters], dtype=float)
+        self.r = np.array([c.corner_radius for c in self.cutters], dtype=float)
 
     def __len__(self) -> int:
         return len(self.tools)
+
+    def cutter(self, index) -> Cutter:
+        """The cutter of the tool at ``index`` (0 .. n-1)."""
+        return self.cutters[int(index)]
 
     def index_of(self, tool_id) -> int:
         """Index of the tool with this id; ValueError naming ``tool`` if absent."""
@@ -89,7 +101,9 @@ def parse_tools(spec=None, key: str = "tools") -> ToolDatabase:
 
     Each entry: ``diameter`` (> 0), ``corner_radius`` (0 <= r <= D/2), optional ``id``
     (default: position + 1), ``type`` (flat/ball/toroidal; checked against r when given),
-    ``name``. Errors are one-line ValueErrors starting with the key path, e.g.
+    ``name``. The shape comes from :func:`~.cutters.make_cutter` (a registered name or
+    alias is accepted as ``type``). Errors are one-line ValueErrors starting with the key
+    path, e.g.
     ``tools[2].corner_radius: 9 exceeds the tool radius 8``.
     """
     if spec is None:
@@ -109,25 +123,19 @@ def parse_tools(spec=None, key: str = "tools") -> ToolDatabase:
         d = number(item["diameter"], f"{k}.diameter")
         if d <= 0:
             raise ValueError(f"{k}.diameter: must be > 0, got {d:g}")
-        kind = item.get("type")
-        default_r = {"flat": 0.0, "ball": d / 2}.get(kind)
-        if "corner_radius" not in item and default_r is None:
-            raise ValueError(f"{k}.corner_radius: missing")
-        r = number(item.get("corner_radius", default_r), f"{k}.corner_radius")
-        if r < 0:
-            raise ValueError(f"{k}.corner_radius: must be >= 0, got {r:g}")
-        if r > d / 2 + 1e-12:
-            raise ValueError(f"{k}.corner_radius: {r:g} exceeds the tool radius {d / 2:g}")
-        derived = "flat" if r == 0 else ("ball" if abs(r - d / 2) <= 1e-12 else "toroidal")
-        if kind is not None and kind != derived:
-            if kind not in _TYPES:
-                raise ValueError(f"{k}.type: expected one of {', '.join(_TYPES)}, got {kind!r}")
-            raise ValueError(f"{k}.type: {kind!r} does not match D {d:g}, r {r:g} "
-                             f"(that is a {derived} tool)")
+        r = None
+        if "corner_radius" in item:
+            r = number(item["corner_radius"], f"{k}.corner_radius")
+            if r < 0:
+                raise ValueError(f"{k}.corner_radius: must be >= 0, got {r:g}")
+            if r > d / 2 + 1e-12:
+                raise ValueError(f"{k}.corner_radius: {r:g} exceeds the tool radius {d / 2:g}")
+        cutter = make_cutter(d, r, item.get("type"), key=k)  # shape inferred, a given type checked
         tid = item.get("id", i + 1)
         if isinstance(tid, bool) or not isinstance(tid, (int, np.integer)):
             raise ValueError(f"{k}.id: expected an integer, got {tid!r}")
-        tools.append(Tool(int(tid), d, min(r, d / 2), derived, str(item.get("name", ""))))
+        tools.append(Tool(int(tid), d, cutter.corner_radius, cutter.kind,
+                          str(item.get("name", "")), cutter))
     ids = [t.id for t in tools]
     dup = sorted({x for x in ids if ids.count(x) > 1})
     if dup:

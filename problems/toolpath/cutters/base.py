@@ -66,7 +66,7 @@ def make_cutter(diameter, corner_radius=None, kind: str | None = None, key: str 
         raise ValueError(f"{key}.diameter: expected a number, got {diameter!r}") from None
     if not (np.isfinite(d) and d > 0):
         raise ValueError(f"{key}.diameter: must be a finite number > 0, got {diameter!r}")
-    if kind is not None and kind not in CUTTERS:
+    if kind is not None and (not isinstance(kind, str) or kind not in CUTTERS):
         raise ValueError(f"{key}.type: expected one of {', '.join(cutter_names())}, "
                          f"got {kind!r}")
     if corner_radius is None:
@@ -105,6 +105,10 @@ class Cutter(ABC):
     """A cutter of diameter D and corner radius r (mm); see the module docstring."""
 
     kind: str = "cutter"
+    #: True if the end face meets the side in a sharp edge (r = 0): fed with the bottom
+    #: inclined across the feed, the rim leaves the saw-tooth "undercut" of Fountas et al.
+    #: (after Bedi et al. 1996), which the criteria report separately.
+    sharp_rim: bool = False
 
     def __init__(self, diameter: float, corner_radius: float):
         if not type(self).accepts(diameter, corner_radius):
@@ -194,6 +198,11 @@ class Cutter(ABC):
 
     def label(self) -> str:
         return f"{self.kind} D{self.diameter:g} r{self.corner_radius:g}"
+
+    def short_label(self) -> str:
+        """Kind and D, plus r only where the shape's name does not imply it (NC comments)."""
+        implied = type(self).default_corner_radius(self.diameter) is not None
+        return f"{self.kind} D{self.diameter:g}" + ("" if implied else f" r{self.corner_radius:g}")
 
     def __repr__(self) -> str:
         return f"{type(self).__name__}(diameter={self.diameter:g}, corner_radius={self.corner_radius:g})"

@@ -88,6 +88,8 @@ class _Revolved(Cutter):
 class FlatEndCutter(_Revolved):
     """Flat-end mill: r = 0 (the end face cuts; on a slope the rim touches)."""
 
+    sharp_rim = True
+
     @classmethod
     def accepts(cls, diameter, corner_radius):
         return diameter > 0 and corner_radius == 0

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..cutters import make_cutter
 from .toolpath import Tool, Toolpath
 
 MAX_COLUMNS = 72
@@ -60,7 +61,7 @@ def header(*, diameter: float, corner_radius: float, part: str = "EVOPLAN", comm
     for c in comments or []:
         lines += _fit(f"$$ {c}"[:MAX_COLUMNS])
     lines += [f"$$ TOOLPOINT {'CENTRE' if tip_is_centre else 'TIP'}", "UNITS/MM", f"LOADTL/{int(tool_number)}"]
-    lines += _fit(f"CUTTER/{diameter:.4f},{corner_radius:.4f}")
+    lines += _fit(make_cutter(diameter, corner_radius, key="tool").apt_cutter())
     if spindle_rpm:
         lines.append(f"SPINDL/{spindle_rpm:.0f},RPM,CLW")
     lines.append(f"COOLNT/{coolant.upper()}")

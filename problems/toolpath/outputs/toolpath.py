@@ -12,6 +12,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..cutters import Cutter, make_cutter
+
 
 @dataclass
 class Tool:
@@ -23,9 +25,13 @@ class Tool:
     corner_radius: float = 0.0
     spindle_rpm: float | None = 6000.0
 
+    @property
+    def cutter(self) -> Cutter:
+        """The cutter's shape (``cutters.make_cutter``: flat, ball or toroidal from D and r)."""
+        return make_cutter(self.diameter, self.corner_radius, key="tool")
+
     def label(self) -> str:
-        kind = "flat" if self.corner_radius == 0 else "ball" if self.corner_radius * 2 == self.diameter else "toroidal"
-        return f"{kind} D{self.diameter:g}" + (f" r{self.corner_radius:g}" if kind == "toroidal" else "")
+        return self.cutter.short_label()
 
 
 @dataclass

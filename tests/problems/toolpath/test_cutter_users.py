@@ -1,0 +1,48 @@
+"""The users of the cutter abstraction: the tool database hands out cutters, the simulator's
+undercut and the NC outputs (label, APT CUTTER/) go through the cutter's shape."""
+
+import numpy as np
+import pytest
+
+from evoplan.problems.toolpath.cutters import BallEndCutter, FlatEndCutter, ToroidalCutter
+from evoplan.problems.toolpath.outputs.apt_write import header
+from evoplan.problems.toolpath.outputs.toolpath import Tool
+from evoplan.problems.toolpath.tools import parse_tools
+
+
+def test_the_database_hands_out_the_inferred_cutters():
+    db = parse_tools([{"diameter": 8, "corner_radius": 0}, {"diameter": 12, "corner_radius": 2,
+                      "type": "bull-nose"}, {"diameter": 16, "type": "ball"}])
+    assert [type(c) for c in db.cutters] == [FlatEndCutter, ToroidalCutter, BallEndCutter]
+    assert [t.type for t in db.tools] == ["flat", "toroidal", "ball"]  # aliases -> the kind
+    assert db.cutter(2).corner_radius == 8.0 and db.tools[2].corner_radius == 8.0
+    assert np.array_equal(db.R, [4.0, 6.0, 8.0]) and np.array_equal(db.r, [0.0, 2.0, 8.0])
+    assert [c.sharp_rim for c in db.cutters] == [True, False, False]
+    with pytest.raises(ValueError, match=r"tools\[0\].type: 'flat' does not match D 8, r 1"):
+        parse_tools([{"diameter": 8, "corner_radius": 1, "type": "flat"}])
+    with pytest.raises(ValueError, match=r"tools\[0\].type: expected one of"):
+        parse_tools([{"diameter": 8, "corner_radius": 1, "type": ["flat"]}])
+
+
+def test_only_a_sharp_rim_reports_an_undercut():
+    """Tilted across the feed on a plane, the flat-end's rim leaves material (its undercut);
+    the same orientation gives no undercut for the toroidal and ball tools."""
+    from toolpath_analytic import Plane
+
+    from evoplan.problems.toolpath import ToolpathSimulator
+
+    db = parse_tools([{"diameter": 12, "corner_radius": 0}, {"diameter": 12, "corner_radius": 2},
+                      {"diameter": 12, "corner_radius": 6}])
+    sim = ToolpathSimulator(Plane(0.0, 100.0, 0.0, 60.0), db)
+    X = np.array([[i, 40.0, 0.0, 3.0, 5.0] for i in range(3)])
+    crit = sim.criteria(X)
+    assert crit["undercut_max"][0] == crit["scallop_max"][0] > 0.01
+    assert np.all(crit["undercut_max"][1:] == 0.0) and np.all(crit["scallop_max"][1:] > 0)
+
+
+def test_nc_outputs_take_the_shape_from_the_cutter():
+    assert [Tool(1, 8, 0).label(), Tool(1, 12, 6).label(), Tool(1, 16, 3).label()] == [
+        "flat D8", "ball D12", "toroidal D16 r3"]
+    assert "CUTTER/16.0000,3.0000" in header(diameter=16, corner_radius=3)
+    with pytest.raises(ValueError, match=r"tool.corner_radius: must be in \[0, D/2 = 4\]"):
+        header(diameter=8, corner_radius=5)
