@@ -1,9 +1,12 @@
 """``evoplan zone CONFIG [--out DIR]``: zone a surface, optimize each zone's feed direction.
 
 The file names the surface, the cutter (R, r), the scallop limit h_c, the zone-change
-penalty Delta L, the parametric mesh and the method (single, kmeans, amas) with its
-parameters; see ``runs/choi_zoning.yaml``. Writes ``summary.json`` (method, zones, per-zone
-direction and length, total length of Djebali Eq. 4, penalty, seconds), ``zones.csv``
+penalty Delta L, the parametric mesh, the zoning method (any name of the registry in
+``problems/toolpath/zoning/methods/``: single, kmeans, amas) with a settings group per method,
+and ``merge`` (the post-process of ``zoning/merge.py``); see ``runs/choi_zoning.yaml``. The
+config model is built from the registry, so this command holds no method logic. Writes
+``summary.json`` (method, zones, per-zone direction and length, total length of Djebali
+Eq. 4, penalty, merge counts, seconds), ``zones.csv``
 (cell -> zone, with the cell's features) and ``zone_map.png`` (the zones and their passes).
 Nothing is written unless the whole plan succeeds.
 """
@@ -16,14 +19,16 @@ import io
 import json
 import time
 from pathlib import Path
-from typing import Annotated, Any, Literal
+from typing import Any, Literal
 
-from pydantic import Field, ValidationError
+from pydantic import Field, ValidationError, create_model, field_validator
 
 from ..config import SafeName, _Strict, format_validation_error, read_yaml
 from ..engine import write_atomic
 from ..errors import ConfigError, EvoplanError
 from ..limits import mesh_bytes, require
+from ..problems.toolpath.zoning.merge import MergeSettings
+from ..problems.toolpath.zoning.methods import REGISTRY
 
 
 class CutterConfig(_Strict):
@@ -31,55 +36,62 @@ class CutterConfig(_Strict):
     r: float = 1.0
 
 
-class KMeansConfig(_Strict):
-    K: int = 3
-    weights: list[Annotated[float, Field(ge=0)]] = Field(default_factory=lambda: [1.0, 1.0, 1.0, 1.0],
-                                                         min_length=4, max_length=4)
-
-
-class AmasConfig(_Strict):
-    k_cmd: float = 1.0
-    k_lz: float = 0.15
-    satisfaction: Literal["weighted", "printed"] = "weighted"
-    neutral_slope_deg: float = 0.0
-
-
-class ZoneConfig(_Strict):
+class ZoneBase(_Strict):
     name: SafeName = "zoning"
     surface: Any = "choi"
     cutter: CutterConfig = Field(default_factory=CutterConfig)
     h_c: float = 0.254
     delta_l: float = 40.0
     mesh: list[int] = Field(default_factory=lambda: [70, 70], min_length=2, max_length=2)
-    method: Literal["single", "kmeans", "amas"] = "amas"
+    method: str = Field("amas", description="a registered zoning method: single, kmeans, amas")
     seed: int = 0
-    kmeans: KMeansConfig = Field(default_factory=KMeansConfig)
-    amas: AmasConfig = Field(default_factory=AmasConfig)
+    merge: MergeSettings = Field(default_factory=MergeSettings)
     stepover_model: Literal["profile", "circle"] = "profile"
     sample_spacing: float = Field(0.25, gt=0)
     direction_scan: int = Field(12, ge=1)
+
+    @field_validator("method")
+    @classmethod
+    def _registered(cls, v: str) -> str:
+        if v not in REGISTRY:
+            raise ValueError(f"expected one of {', '.join(REGISTRY)}")
+        return v
+
+
+def zone_config_model() -> type[ZoneBase]:
+    """The zoning-file model: ``ZoneBase`` plus one settings group per registered method."""
+    groups = {name: (m.Settings, Field(default_factory=m.Settings, description=m.description))
+              for name, m in REGISTRY.items()}
+    return create_model("ZoneConfig", __base__=ZoneBase, **groups)
+
+
+ZoneConfig = zone_config_model()  # the built-in methods' model (docs/zoning.md lists its keys)
 
 
 def add_parser(sub) -> argparse.ArgumentParser:
     p = sub.add_parser("zone", help="zone a surface and optimize each zone's feed direction")
     p.add_argument("config", help="YAML zoning file (e.g. runs/choi_zoning.yaml)")
     p.add_argument("--out", help="results folder (default: results/<name>-<time>)")
-    p.add_argument("--method", choices=["single", "kmeans", "amas"], help="override the method")
+    p.add_argument("--method", metavar="NAME",
+                   help=f"override the method (registered: {', '.join(REGISTRY)})")
     return p
 
 
-def load(path: str) -> ZoneConfig:
+def load(path: str, method: str | None = None) -> ZoneBase:
+    """The validated zoning file (``method``: the --method override); ConfigError."""
     data = read_yaml(path)
     data.setdefault("name", Path(path).stem)
+    if method is not None:
+        data["method"] = method
     try:
-        cfg = ZoneConfig.model_validate(data)
+        cfg = zone_config_model().model_validate(data)
     except ValidationError as e:
         raise ConfigError(format_validation_error(e, str(path))) from None
     require(mesh_bytes(*cfg.mesh), f"{path}: mesh", f"{cfg.mesh[0]} x {cfg.mesh[1]} cells")
     return cfg
 
 
-def build_plan(cfg: ZoneConfig, base_dir: Path):
+def build_plan(cfg: ZoneBase, base_dir: Path):
     """(surface, samples, plan) of a validated config; ValueError for bad values."""
     from ..problems.toolpath.spec import parse_surface
     from ..problems.toolpath.zoning.plan import plan_zones
@@ -89,20 +101,14 @@ def build_plan(cfg: ZoneConfig, base_dir: Path):
     surface = parse_surface(cfg.surface, "surface", base_dir=base_dir)
     cutter = Cutter3Axis.build(cfg.cutter.R, cfg.cutter.r, cfg.h_c, key="cutter")
     samples = sample_surface(surface, spacing=cfg.sample_spacing)
-    zoning = {"seed": cfg.seed}
-    if cfg.method == "kmeans":
-        zoning.update(k=cfg.kmeans.K, weights=tuple(cfg.kmeans.weights))
-    elif cfg.method == "amas":
-        zoning.update(k_cmd=cfg.amas.k_cmd, k_lz=cfg.amas.k_lz,
-                      satisfaction=cfg.amas.satisfaction,
-                      neutral_slope_deg=cfg.amas.neutral_slope_deg)
+    settings = getattr(cfg, cfg.method).model_dump()  # the method's own settings group
     plan = plan_zones(surface, cutter, cfg.method, mesh=tuple(cfg.mesh), delta_l=cfg.delta_l,
                       model=cfg.stepover_model, samples=samples, scan=cfg.direction_scan,
-                      **zoning)
+                      seed=cfg.seed, merge=cfg.merge, **settings)
     return surface, samples, plan
 
 
-def summary(cfg: ZoneConfig, plan) -> dict[str, Any]:
+def summary(cfg: ZoneBase, plan) -> dict[str, Any]:
     return {
         "name": cfg.name, "method": plan.method, "mesh": list(cfg.mesh),
         "cutter": {"R": cfg.cutter.R, "r": cfg.cutter.r}, "h_c": cfg.h_c,
@@ -142,9 +148,7 @@ def zones_csv(features, labels) -> bytes:
 def main(args: argparse.Namespace) -> int:
     from ..problems.toolpath.zoning.figures import zone_map_png
 
-    cfg = load(args.config)
-    if args.method:
-        cfg = cfg.model_copy(update={"method": args.method})
+    cfg = load(args.config, args.method)
     out = Path(args.out or Path("results") / f"{cfg.name}-{time.strftime('%Y%m%d-%H%M%S')}")
     if out.exists() and (not out.is_dir() or any(out.iterdir())):
         raise EvoplanError(f"{out}: already exists and is not empty: choose another --out")
@@ -161,7 +165,9 @@ def main(args: argparse.Namespace) -> int:
     out.mkdir(parents=True, exist_ok=True)
     for name, data in files.items():
         write_atomic(out / name, data)
-    print(json.dumps({"out": str(out), "method": plan.method, "zones": len(plan.zones),
+    print(json.dumps({"out": str(out), "method": plan.method,
+                      "zones_from_method": plan.info.get("merge", {}).get("zones_in"),
+                      "zones": len(plan.zones),
                       "cutting_length_mm": round(plan.cutting_length, 1),
                       "penalty_mm": plan.penalty,
                       "total_length_mm": round(plan.total_length, 1),

@@ -2,10 +2,12 @@
 
     total = sum over zones of Lg(z, alpha_opt(z)) + (|Z| - 1) * Delta L     (Djebali Eq. 4)
 
-Zoning methods: ``single`` (one zone: the "straightforward" plan of Djebali Sec. 6.1),
-``kmeans`` (Herraz's C4DO1D: ``kmeans.py``) and ``amas`` (Djebali's multi-agent system:
-``amas.py``). Each zone's direction is optimized on its own (``direction.py``) and its
-passes laid out by ``passes.py`` on the dense samples of ``samples.py``.
+Zoning methods come from the registry of ``methods/``: ``single`` (one zone: the
+"straightforward" plan of Djebali Sec. 6.1), ``kmeans`` (Herraz's C4DO1D: ``kmeans.py``) and
+``amas`` (Djebali's multi-agent system: ``amas.py``); any method's zones are then merged as
+``merge.py`` explains (a minimum zone area, then Eq. 4 merging; ``merge=None``: none). Each
+zone's direction is optimized on its own (``direction.py``) and its passes laid out by
+``passes.py`` on the dense samples of ``samples.py``.
 """
 
 from __future__ import annotations
@@ -14,20 +16,22 @@ import time
 from dataclasses import dataclass, field
 
 import numpy as np
+from pydantic import ValidationError
 
 from ..checks import number
 from ..surface import Surface
-from .amas import amas_zoning
 from .direction import axial_mean, optimize_direction
 from .features import MeshFeatures, check_mesh, mesh_features
-from .kmeans import kmeans_zoning
+from .merge import MergeSettings, merge_zones
+from .methods import get_method, method_names
+from .methods.base import one_line
 from .passes import ZonePasses, length_lower_bound
 from .samples import SurfaceSamples, sample_surface
 from .stepover import Cutter3Axis
 
 __all__ = ["METHODS", "ZonePlan", "ZoningPlan", "zone_labels", "plan_zones", "plan_from_labels"]
 
-METHODS = ("single", "kmeans", "amas")
+METHODS = method_names()  # the built-in methods; the registry (methods/) is the reference
 
 
 @dataclass(frozen=True)
@@ -79,21 +83,11 @@ class ZoningPlan:
         return float(sum(z.passes.link_length for z in self.zones))
 
 
-def zone_labels(features: MeshFeatures, method: str, k: int = 3, k_cmd: float = 1.0,
-                k_lz: float = 0.15, seed: int = 0, weights=(1.0, 1.0, 1.0, 1.0),
-                neutral_slope_deg: float = 0.0, satisfaction: str = "weighted") -> tuple:
-    """(labels (n, m), info dict) of a zoning method on the mesh features."""
-    if method == "single":
-        return np.zeros(features.shape, np.int64), {}
-    if method == "kmeans":
-        return kmeans_zoning(features, k, weights), {"K": int(k)}
-    if method == "amas":
-        neutral = features.slope < np.radians(number(neutral_slope_deg, "neutral_slope_deg"))
-        res = amas_zoning(features.optimal_feed, k_cmd=k_cmd, k_lz=k_lz, seed=seed,
-                          satisfaction=satisfaction, neutral=neutral)
-        return res.labels, {"cycles": res.cycles, "actions": res.actions,
-                            "settled": res.settled, "k_cmd": k_cmd, "k_lz": k_lz}
-    raise ValueError(f"method: expected one of {', '.join(METHODS)}, got {method!r}")
+def zone_labels(features: MeshFeatures, method, seed: int = 0, **settings) -> tuple:
+    """(labels (n, m), info dict) of a registered zoning method (a name or a ``ZoningMethod``)
+    on the mesh features; ``settings`` are the method's (validated by its ``Settings``)."""
+    zoning = get_method(method)
+    return zoning.labels(features, zoning.settings(settings), seed=seed)
 
 
 def plan_from_labels(samples: SurfaceSamples, features: MeshFeatures, labels: np.ndarray,
@@ -121,8 +115,11 @@ def plan_from_labels(samples: SurfaceSamples, features: MeshFeatures, labels: np
 
 def plan_zones(surface: Surface, cutter: Cutter3Axis, method: str = "kmeans",
                mesh=(70, 70), delta_l: float = 40.0, model: str = "profile",
-               samples: SurfaceSamples | None = None, scan: int = 12, **zoning) -> ZoningPlan:
-    """The whole pipeline: features, zoning, per-zone directions, Eq. 4 total."""
+               samples: SurfaceSamples | None = None, scan: int = 12, seed: int = 0,
+               merge: MergeSettings | None = MergeSettings(), **settings) -> ZoningPlan:
+    """The whole pipeline: features, zoning (``method`` with its ``settings``), merging
+    (``merge``, default ``MergeSettings()``; None: the method's zones as they are), per-zone
+    directions, Eq. 4 total."""
     delta_l = number(delta_l, "delta_l")
     if delta_l < 0:
         raise ValueError(f"delta_l: must be >= 0 mm, got {delta_l}")
@@ -133,9 +130,21 @@ def plan_zones(surface: Surface, cutter: Cutter3Axis, method: str = "kmeans",
     samples = samples if samples is not None else sample_surface(surface)
     features = mesh_features(surface, n, m)
     t1 = time.perf_counter()
-    labels, info = zone_labels(features, method, **zoning)
+    zoning = get_method(method)
+    if isinstance(merge, dict):
+        try:
+            merge = MergeSettings.model_validate(merge)
+        except ValidationError as e:
+            raise ValueError(one_line(e, "merge")) from None
+    labels, info = zone_labels(features, zoning, seed=seed, **settings)
+    if merge is not None:
+        def zone_length(mask):  # Lg of one zone at its optimized direction (Eq. 4 term)
+            one = plan_from_labels(samples, features, np.where(mask, 0, -1), cutter, model, scan)
+            return one[0][0].length
+
+        labels, info["merge"] = merge_zones(labels, features, merge, delta_l, zone_length)
     t2 = time.perf_counter()
     zones, t_dir = plan_from_labels(samples, features, labels, cutter, model, scan)
     seconds = {"features": t1 - t0, "zoning": t2 - t1, "directions": t_dir,
                "total": t2 - t0 + t_dir}
-    return ZoningPlan(method, labels, zones, delta_l, seconds, info, features)
+    return ZoningPlan(zoning.name, labels, zones, delta_l, seconds, info, features)

@@ -1,7 +1,8 @@
 """Zoning as a decision of the toolpath problem: the pymoo problem GA and VEGA optimize.
 
-Genes (``variables``): the cutter (a choice from the tool database) and the zoning: the
-number of K-means clusters ``zones`` (Herraz) or, with ``method: amas``, Djebali's k_LZ.
+Genes (``variables``): the cutter (a choice from the tool database) and the zoning gene of
+the registered method (``methods/``, its ``gene``): the number of K-means clusters ``zones``
+(Herraz) or, with ``method: amas``, Djebali's k_LZ.
 Delta L, h_c, the mesh and the surface come from the config. The objective is the machining
 length of Djebali Eq. 4 (mm): each zone machined along its optimized direction with the
 step-over that keeps the scallop under h_c, plus (|Z| - 1) Delta L. The step-over is then
@@ -18,10 +19,11 @@ import numpy as np
 from pymoo.core.problem import Problem
 from pymoo.core.variable import Choice, Integer, Real
 
-from ..checks import interval, number
+from ..checks import number
 from ..spec import parse_surface
 from ..tools import parse_tools
 from .features import check_mesh, mesh_features
+from .methods import get_method
 from .plan import ZoningPlan, plan_from_labels, zone_labels
 from .samples import sample_surface
 from .stepover import Cutter3Axis
@@ -41,40 +43,40 @@ class ZonedToolpathProblem(Problem):
 
     Plain-data params: ``surface`` (default choi), ``tools`` (default: Choi's R 3.175 ball,
     toroidal r 1 and 1.27, flat), ``h_c`` (0.254), ``delta_l`` (40), ``mesh`` ([70, 70]),
-    ``method`` (kmeans | amas), ``zones`` range for kmeans ([1, 8]), ``k_lz`` range for amas
-    ([0.02, 0.6]), ``k_cmd`` (1), ``seed`` (AMAS tie-breaks), ``stepover_model``.
+    ``method`` (a registered method with a gene: kmeans | amas), ``zones`` range for kmeans
+    ([1, 8]), ``k_lz`` range for amas ([0.02, 0.6]), another method's gene range under its
+    gene name in ``gene_ranges``, ``settings`` (the method's fixed settings), ``k_cmd`` (1,
+    for a method with that setting), ``seed`` (AMAS tie-breaks), ``stepover_model``.
     """
 
     def __init__(self, surface="choi", tools=None, h_c=0.254, delta_l=40.0, mesh=(70, 70),
                  method="kmeans", zones=(1, 8), k_lz=(0.02, 0.6), k_cmd=1.0, seed=0,
-                 stepover_model="profile", base_dir=None):
+                 stepover_model="profile", base_dir=None, settings=None, gene_ranges=None):
         self.surface = parse_surface(surface, "surface", base_dir)
         self.tool_db = parse_tools(tools if tools is not None else CHOI_TOOLS, "tools")
         self.h_c = number(h_c, "h_c", positive=True)
         self.delta_l = number(delta_l, "delta_l")
         if self.delta_l < 0:
             raise ValueError(f"delta_l: must be >= 0 mm, got {delta_l!r}")
-        if method not in ("kmeans", "amas"):
-            raise ValueError(f"method: expected kmeans or amas, got {method!r}")
+        self.zoning = get_method(method)
+        if self.zoning.gene is None:
+            raise ValueError(f"method: {method!r} has no setting to optimize as a gene")
         if stepover_model not in ("profile", "circle"):
             raise ValueError(f"stepover_model: expected profile or circle, got {stepover_model!r}")
-        self.method, self.model = method, stepover_model
+        self.method, self.model = self.zoning.name, stepover_model
         self.k_cmd, self.seed = number(k_cmd, "k_cmd"), int(seed)
+        fixed = dict(settings or {})
+        if "k_cmd" in self.zoning.Settings.model_fields:
+            fixed.setdefault("k_cmd", self.k_cmd)
+        self.settings = self.zoning.settings(fixed).model_dump()
         self.features = mesh_features(self.surface, *check_mesh(*mesh))
         self.samples = sample_surface(self.surface)
         ids = [int(t) for t in self.tool_db.ids]
-        if method == "kmeans":
-            lo, hi = interval(zones, "zones")
-            if lo < 1 or hi > self.features.size or lo != int(lo) or hi != int(hi):
-                raise ValueError(f"zones: expected integers in [1, {self.features.size}] "
-                                 f"(the mesh's cells), got {list(zones)!r}")
-            gene = Integer(bounds=(int(lo), int(hi)))
-        else:
-            lo, hi = interval(k_lz, "k_lz")
-            if lo < 0 or hi > 1:
-                raise ValueError(f"k_lz: the range must lie in [0, 1], got {list(k_lz)!r}")
-            gene = Real(bounds=(lo, hi))
-        self.gene = "zones" if method == "kmeans" else "k_lz"
+        spec = self.zoning.gene
+        ranges = {"zones": zones, "k_lz": k_lz, **(gene_ranges or {})}
+        lo, hi = self.zoning.gene_range(ranges.get(spec.name, spec.bounds), self.features)
+        gene = Integer(bounds=(int(lo), int(hi))) if spec.integer else Real(bounds=(lo, hi))
+        self.gene = spec.name
         self.variables = {"tool": Choice(options=ids), self.gene: gene}
         self._plans: dict = {}
         self._labels: dict = {}
@@ -85,15 +87,16 @@ class ZonedToolpathProblem(Problem):
         t = self.tool_db.tools[int(tool_index)]
         return Cutter3Axis(t.radius, t.corner_radius, self.h_c)
 
+    def _decode(self, value: float):
+        """The zoning gene's value as the method's setting (an int for an integer gene)."""
+        return int(round(value)) if self.zoning.gene.integer else round(float(value), 9)
+
     def labels(self, value: float) -> np.ndarray:
         """Zone labels on the mesh for one value of the zoning gene (memoized)."""
-        value = int(round(value)) if self.gene == "zones" else round(float(value), 9)
+        value = self._decode(value)
         if value not in self._labels:
-            if self.gene == "zones":
-                labels, _ = zone_labels(self.features, "kmeans", k=value)
-            else:
-                labels, _ = zone_labels(self.features, "amas", k_cmd=self.k_cmd,
-                                        k_lz=value, seed=self.seed)
+            settings = {**self.settings, self.zoning.gene.setting: value}
+            labels, _ = zone_labels(self.features, self.zoning, seed=self.seed, **settings)
             self._labels[value] = labels
         return self._labels[value]
 
@@ -126,7 +129,7 @@ class ZonedToolpathProblem(Problem):
 
     def plan(self, tool_index: int, value: float) -> dict[str, float]:
         """Raw numbers of one decoded gene pair (memoized)."""
-        value = int(round(value)) if self.gene == "zones" else round(float(value), 9)
+        value = self._decode(value)
         key = (int(tool_index), value)
         if key not in self._plans:
             labels = self.labels(value)

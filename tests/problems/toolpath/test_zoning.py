@@ -97,7 +97,9 @@ def test_two_planes_split_into_exactly_those_two(method):
               else amas_zoning(f.optimal_feed, k_cmd=1.0, k_lz=0.15, seed=0).labels)
     assert len(np.unique(labels)) == 2
     assert np.all(labels == half) or np.all(labels == 1 - half)
-    plan = plan_zones(surface, TORUS, method, mesh=(24, 18), k=2, seed=0)
+    settings = {"K": 2} if method == "kmeans" else {}
+    plan = plan_zones(surface, TORUS, method, mesh=(24, 18), seed=0, **settings)
+    assert len(plan.zones) == 2  # the default merging keeps both planes
     dirs = sorted(round(z.direction_deg) % 180 for z in plan.zones)
     assert dirs == [0, 90]  # each plane machined along its own steepest slope
 
@@ -118,7 +120,7 @@ def test_zones_are_connected_after_splitting():
             assert ndimage.label(labels == z)[1] == 1
 
 
-@pytest.mark.parametrize("method,kw", [("single", {}), ("kmeans", {"k": 3}), ("kmeans", {"k": 5}),
+@pytest.mark.parametrize("method,kw", [("single", {}), ("kmeans", {"K": 3}), ("kmeans", {"K": 5}),
                                        ("amas", {"k_lz": 0.15, "seed": 1})])
 def test_total_never_below_the_lower_bounds(method, kw):
     surface = choi_surface()
