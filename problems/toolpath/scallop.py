@@ -5,11 +5,11 @@ Two models:
 1. The effective-radius (osculating circle) model of the papers, exact circle geometry:
    :func:`scallop_height` (flat, convex, concave), :func:`flat_scallop`, and the spacings of
    Djebali et al. Sec. 2.3 (:func:`stepover_djebali_eq2`, :func:`spacing_exact`).
-2. The projected-profile model the simulator uses (:func:`profile_tables`,
-   :func:`gap_heights`): the cutter is projected along the feed onto the plane normal to the
-   feed, exactly (for a straight move this is the cross-section of the swept volume): the
-   rim circle projects to an ellipse (a segment when the rim plane contains the feed), and
-   the corner torus adds an offset r. Its curvature at the contact is R_eff (checked in the
+2. The projected-profile model the simulator uses (:func:`gap_heights` on the tables of
+   ``cutters.silhouette.profile_tables``): the cutter is projected along the feed onto the
+   plane normal to the feed, exactly (for a straight move this is the cross-section of the
+   swept volume): the rim circle projects to an ellipse (a segment when the rim plane
+   contains the feed), and the corner torus adds an offset r. Its curvature at the contact is R_eff (checked in the
    tests), but it stays exact where the circle model breaks down: a flat-end at lead 0
    (flat bottom: no scallop on a plane), a flat-end tilted across the feed (the rim cuts;
    the inclined bottom leaves the saw-tooth "undercut" Fountas mentions after Bedi et al.
@@ -25,15 +25,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from .effective_radius import effective_radius_lead_tilt
-
 __all__ = [
     "flat_scallop",
     "scallop_height",
     "stepover_djebali_eq2",
     "spacing_exact",
     "spacing_flat_approx",
-    "profile_tables",
     "profile_height",
     "gap_heights",
 ]
@@ -111,95 +108,11 @@ def spacing_flat_approx(h, r_eff):
 # Projected-profile model (used by the simulator)
 # -------------------------------------------------------------------------------------
 
-def profile_tables(R, r, lead, tilt, m_fine: int = 192, m_uniform: int = 64,
-                   m_ellipse: int = 256):
-    """Cross-feed profile of the cutter on both sides of the contact point.
-
-    R, r, lead, tilt: (n,) (mm, radians; lead about the cross-feed axis b, then tilt about
-    the feed t, the axis leaning towards +b). In the travel frame (t, b, n) the axis is
-    a = (sin aL, cos aL sin aT, cos aL cos aT). The rim circle (radius R - r, plane normal to
-    a) projects along t to an ellipse E = M (unit disk) in the (b, n) plane (a segment when
-    the rim plane contains t); the profile is the lower boundary of E + disk(r). Its points
-    are sampled exactly in two ways and merged by x:
-
-    - by outward normal nu = (sin p, -cos p): point(p) = G nu / sqrt(nu' G nu) + r nu,
-      G = M M' (robust for segments and points); p = 0 is the contact point (for a flat
-      bottom parallel to the surface: the bottom centre, the CC point of the tool axis);
-      p clustered as arcsin(sigma / R_eff), sigma uniform in [0, R], plus a uniform set;
-    - by the ellipse's own parameter theta (x spacing <= (R - r) 2 pi / m_ellipse): point
-      M (cos th, sin th) + r nu(th) on the lower half.
-
-    Returns (x, z, reach): x, z (2n, m) height z above the tangent plane at offset x >= 0
-    (x ascending), rows 2i (+b side) and 2i+1 (-b side, mirrored); reach (2n,) the last x
-    (the profile is vertical beyond: nothing is cut there).
-    """
-    R, r, lead, tilt = (np.atleast_1d(np.asarray(x, float)) for x in (R, r, lead, tilt))
-    n = len(R)
-    a = np.stack([np.sin(lead), np.cos(lead) * np.sin(tilt), np.cos(lead) * np.cos(tilt)], -1)
-    e1 = np.array([1.0, 0.0, 0.0]) - a[:, :1] * a
-    e1 /= np.linalg.norm(e1, axis=-1, keepdims=True)
-    e2 = np.cross(a, e1)
-    rim = (R - r)[:, None]
-    mb = np.stack([e1[:, 1], e2[:, 1]], -1) * rim  # (n, 2): b row of M
-    mn = np.stack([e1[:, 2], e2[:, 2]], -1) * rim  # n row
-    g_bb = (mb * mb).sum(-1)[:, None]
-    g_bn = (mb * mn).sum(-1)[:, None]
-    g_nn = (mn * mn).sum(-1)[:, None]
-    tiny_len = 1e-12 * np.maximum(R[:, None], 1.0)
-    # 1. samples by outward normal (support points), both sides
-    r_eff = effective_radius_lead_tilt(R, r, lead, tilt)
-    sig = np.linspace(0.0, 1.0, m_fine)[None, :] * R[:, None]
-    with np.errstate(divide="ignore", invalid="ignore"):
-        ratio = sig / r_eff[:, None]  # 0/0 (rim-only, sigma 0) -> nan -> 0
-    p_fine = np.arcsin(np.minimum(np.where(np.isnan(ratio), 0.0, ratio), 1.0))
-    p_uni = np.broadcast_to(np.linspace(0.0, np.pi / 2, m_uniform), (n, m_uniform))
-    ph = np.concatenate([p_fine, p_uni, -p_fine, -p_uni], axis=1)
-    nb, nn = np.sin(ph), -np.cos(ph)
-    gb = g_bb * nb + g_bn * nn  # G nu
-    gn = g_bn * nb + g_nn * nn
-    q = np.sqrt(np.maximum(nb * gb + nn * gn, 0.0))
-    tiny = q <= tiny_len
-    iq = np.where(tiny, 0.0, 1.0 / np.where(tiny, 1.0, q))
-    pb = gb * iq + r[:, None] * nb
-    pn = gn * iq + r[:, None] * nn
-    cb, cn = pb[:, :1], pn[:, :1]  # contact point (p = 0)
-    ok = np.ones(pb.shape, bool)
-    # 2. samples by the ellipse's parameter, lower half
-    th = np.linspace(0.0, 2 * np.pi, m_ellipse, endpoint=False)
-    cos_t, sin_t = np.cos(th)[None, :], np.sin(th)[None, :]
-    eb = mb[:, :1] * cos_t + mb[:, 1:] * sin_t  # ellipse point
-    en = mn[:, :1] * cos_t + mn[:, 1:] * sin_t
-    db = -mb[:, :1] * sin_t + mb[:, 1:] * cos_t  # tangent
-    dn = -mn[:, :1] * sin_t + mn[:, 1:] * cos_t
-    dl = np.hypot(db, dn)
-    valid = dl > tiny_len
-    vb, vn = dn / np.where(valid, dl, 1.0), -db / np.where(valid, dl, 1.0)
-    out = vb * eb + vn * en  # > 0 when (vb, vn) points outwards
-    proper = np.abs(out) > tiny_len * np.maximum(rim, 1e-300)
-    flip = np.where(proper, np.sign(out), -np.sign(vn + (vn == 0)))  # segment: downwards
-    vb, vn = vb * flip, vn * flip
-    valid &= vn < 0
-    pb = np.concatenate([pb, eb + r[:, None] * vb], axis=1)
-    pn = np.concatenate([pn, en + r[:, None] * vn], axis=1)
-    ok = np.concatenate([ok, valid], axis=1)
-    xb, zn = pb - cb, np.maximum(pn - cn, 0.0)
-    rows = []
-    for side in (1.0, -1.0):
-        use = ok & (side * xb >= 0)
-        x = np.where(use, side * xb, 0.0)
-        z = np.where(use, zn, 0.0)
-        order = np.argsort(x, axis=1, kind="stable")
-        rows.append((np.take_along_axis(x, order, 1), np.take_along_axis(z, order, 1)))
-    x = np.stack([rows[0][0], rows[1][0]], axis=1).reshape(2 * n, -1)
-    z = np.stack([rows[0][1], rows[1][1]], axis=1).reshape(2 * n, -1)
-    z = np.maximum.accumulate(z, axis=1)  # round-off only: the profile rises from the contact
-    return x, z, x[:, -1].copy()
-
-
 def profile_height(tables, row, x):
     """Profile height at offsets x >= 0 on table rows ``row`` (one query per element).
 
-    tables: (x, z, reach) from :func:`profile_tables`; returns inf beyond the reach.
+    tables: (x, z, reach) from ``cutters.silhouette.profile_tables``; returns inf beyond
+    the reach.
     One np.interp over all rows (rows are laid end to end with offsets).
     """
     xt, zt, reach = tables

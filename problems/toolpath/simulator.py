@@ -13,7 +13,8 @@ Criteria (each (n,), see :data:`CRITERIA`), per toolpath:
 - ``r_eff``: 5-axis effective radius (``effective_radius.py``; inf for a flat bottom).
 - ``scallop_max`` / ``scallop_mean``: material left at the middle of each gap between
   adjacent passes, from the projected cutter profile, the surface spacing of the CC points
-  across the feed and the normal curvature across the feed (``scallop.py``), per CC point.
+  across the feed and the normal curvature across the feed (``scallop.py`` on the cutter's
+  silhouette, ``cutters/silhouette.py``), per CC point.
 - ``gouge_max``: depth cut below the surface there (profile flatter than a concave section).
 - ``undercut_max``: for cutters with a sharp rim (flat-end, ``Cutter.sharp_rim``), the
   scallop (left by the rim and the inclined bottom: Fountas' h_u after Bedi et al. 1996);
@@ -35,7 +36,8 @@ from .clpath import CLPath
 from .effective_radius import effective_radius_lead_tilt
 from .length import cutting_length, link_length, machining_time, travel_order
 from .pattern import PassGeometry, PatternBatch, cc_pattern_batch
-from .scallop import gap_heights, profile_tables
+from .cutters.silhouette import profile_tables
+from .scallop import gap_heights
 from .surface import Surface, normal_curvature, unit_normal
 from .tools import ToolDatabase
 

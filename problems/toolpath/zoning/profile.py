@@ -8,23 +8,14 @@ step-over at h_c = 0.254), while the real profile is the corner arc followed by 
 bottom rising at only the slope angle (S = 1 deg: a 5.6 mm step-over). ``model: circle``
 keeps the paper's form for comparison.
 
-Geometry (tool axis z; Redonnet et al. 2013, Djebali Sec. 2.2): in the plane normal to the
-feed tangent t, with X the horizontal cross-feed direction c and Y the upward direction e,
-the rim circle (radius R - r) projects to the ellipse of semi-axes a = R - r along X and
-b = (R - r) |t_z| along Y; the corner adds an offset r. The point of the profile whose
-outward normal is nu = (cos psi, sin psi) is
-
-    Q(psi) = (a^2 cos psi, b^2 sin psi) / sqrt(a^2 cos^2 psi + b^2 sin^2 psi) + r nu
-
-(well defined for a segment, b = 0, and a ball, a = b = 0). The surface's cross-section is
-the line through the contact along the cross-feed tangent, at angle beta to X
-(sin beta = b_z / cos(feed inclination)); the contact has nu = -n, psi_c = beta - pi/2.
-Height above the section: n . (Q - Q_c) at the lateral offset x = b . (Q - Q_c). On each side the height rises
-monotonically with psi; the width at h_c is found by bisection in psi and a final linear
-interpolation (exact along the straight part of a segment). Adjacent zig-zag passes leave
-the same profile (the tool is symmetric about its axis), so the CC spacing on the surface
-is w = x_right(h_c) + x_left(h_c); a side that never rises to h_c is limited to the tool's
-extent on that side.
+Geometry (tool axis z; Redonnet et al. 2013, Djebali Sec. 2.2): the cutter's silhouette in
+the plane normal to the feed tangent t (``cutters/silhouette.py``: the rim projects to the
+ellipse of semi-axes R - r across the feed and (R - r) |t_z| upwards, offset by r). The
+surface's cross-section is the line through the contact along the cross-feed tangent, at
+angle beta to the horizontal (sin beta = b_z / cos(feed inclination)); the profile's height
+above it rises on each side, and ``side_width_exact`` gives the lateral offset x where it
+reaches h_c. Adjacent zig-zag passes leave the same profile (the tool is symmetric about its
+axis), so the CC spacing on the surface is w = x_right(h_c) + x_left(h_c).
 
 Speed: the spacing on a plane depends only on |t_z| and |beta|, so it is solved once per
 cutter on a 129 x 129 table (``ProfileTable``, cached) and read by bilinear interpolation.
@@ -41,46 +32,9 @@ from functools import lru_cache
 import numpy as np
 from scipy.ndimage import map_coordinates
 
-__all__ = ["ProfileTable", "profile_table", "profile_width", "side_width_exact"]
+from ..cutters.silhouette import side_width_exact
 
-
-def _point(a, b, r, psi):
-    c, s = np.cos(psi), np.sin(psi)
-    c = np.where(np.abs(c) < 1e-12, 0.0, c)  # a segment facing nu: its centre, not an end
-    norm = np.sqrt(a * a * c * c + b * b * s * s)
-    inv = np.where(norm > 0, 1.0 / np.where(norm > 0, norm, 1.0), 0.0)
-    return a * a * c * inv + r * c, b * b * s * inv + r * s
-
-
-def side_width_exact(R, r, h, t_z, beta, iterations: int = 40):
-    """Lateral offset (mm, >= 0) on the +b side where the profile rises to h; (N,).
-
-    R, r, h: cutter radius, corner radius, height; t_z: |feed tangent z|; beta: angle of the
-    cross-feed tangent to the horizontal in the plane normal to the feed (radians).
-    The -b side is ``side_width_exact(..., -beta)`` (the mirror image).
-    """
-    t_z, beta = np.broadcast_arrays(np.asarray(t_z, float), np.asarray(beta, float))
-    a = R - r
-    b = a * np.abs(t_z)
-    nx, ny = -np.sin(beta), np.cos(beta)
-    tx, ty = np.cos(beta), np.sin(beta)
-    psi_c = beta - 0.5 * np.pi
-    qcx, qcy = _point(a, b, r, psi_c)
-
-    def height(psi):
-        qx, qy = _point(a, b, r, psi)
-        dx, dy = qx - qcx, qy - qcy
-        return nx * dx + ny * dy, dx * tx + dy * ty
-
-    lo, hi = psi_c.copy(), psi_c + 0.5 * np.pi
-    g_end, x_end = height(hi)
-    for _ in range(iterations):
-        mid = 0.5 * (lo + hi)
-        below = height(mid)[0] < h
-        lo, hi = np.where(below, mid, lo), np.where(below, hi, mid)
-    (g_lo, x_lo), (g_hi, x_hi) = height(lo), height(hi)
-    frac = np.clip((h - g_lo) / np.where(g_hi > g_lo, g_hi - g_lo, 1.0), 0.0, 1.0)
-    return np.where(g_end <= h, x_end, x_lo + frac * (x_hi - x_lo))
+__all__ = ["ProfileTable", "profile_table", "profile_width"]
 
 
 class ProfileTable:

@@ -46,3 +46,24 @@ def test_nc_outputs_take_the_shape_from_the_cutter():
     assert "CUTTER/16.0000,3.0000" in header(diameter=16, corner_radius=3)
     with pytest.raises(ValueError, match=r"tool.corner_radius: must be in \[0, D/2 = 4\]"):
         header(diameter=8, corner_radius=5)
+
+
+@pytest.mark.parametrize("r", [0.0, 1.0, 3.175])
+@pytest.mark.parametrize("slope_deg", [0.0, 20.0])
+def test_the_3axis_and_5axis_silhouettes_agree_with_the_closed_form(r, slope_deg):
+    """One silhouette, two users: a vertical cutter fed straight up a plane of slope S is the
+    5-axis case lead = S, tilt = 0. At a height h above the contact, the 3-axis side width
+    (zoning) and the 5-axis profile table (simulator) give the same lateral offset, and on
+    horizontal ground it is the cutter's own width(h) = R0 + sqrt(2 r h - h^2)."""
+    from evoplan.problems.toolpath.cutters import make_cutter
+    from evoplan.problems.toolpath.cutters.silhouette import profile_tables, side_width_exact
+
+    R, S = 3.175, np.radians(slope_deg)
+    h = np.array([0.02, 0.1, 0.254, 0.6])
+    side3 = side_width_exact(R, r, h, np.sin(S), 0.0)
+    x, z, _ = profile_tables(np.array([R]), np.array([r]), np.array([S]), np.zeros(1))
+    side5 = np.interp(h, z[0], x[0])  # +b row; z rises with x
+    if r > 0 or S > 0:  # a flat-end flat on the ground has no rising side to interpolate
+        assert np.allclose(side3, side5, atol=1e-3)  # the table is sampled: ~3e-4
+    if S == 0:
+        assert np.allclose(side3, make_cutter(2 * R, r).width(h), atol=1e-9)

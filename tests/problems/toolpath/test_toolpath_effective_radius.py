@@ -10,7 +10,7 @@ from evoplan.problems.toolpath.effective_radius import (
     effective_radius, effective_radius_3axis, effective_radius_fountas_eq4,
     effective_radius_lead_tilt,
 )
-from evoplan.problems.toolpath.scallop import profile_tables
+from evoplan.problems.toolpath.cutters.silhouette import profile_tables
 
 deg = np.radians
 
