@@ -13,7 +13,7 @@ problem (``grid_mm``, default 0.5 mm), and
 
 The other criteria (CC points, chord error, lengths, time) are properties of the plan and
 stay as they are. The simulation costs far more than the analytic model: evaluate
-populations on the processes or Dask backend.
+populations on the processes or Dask backend (each evaluation runs on one core).
 """
 
 from __future__ import annotations
@@ -68,7 +68,7 @@ class SimulatedCriteria:
     def measure(self, path, flat: bool) -> dict[str, float]:
         """The simulated criteria of one CL path (``flat``: a flat-end cutter)."""
         grid = self.grid
-        res = sweep_path(path, grid, vertical=self.vertical).values
+        res = sweep_path(path, grid, vertical=self.vertical, threads=1).values
         m = residual_metrics(grid, res, self.allowance)
         dev = np.abs(np.clip(res[grid.inside], -np.inf, self.allowance))
         area = grid.cell_area()[grid.inside]

@@ -34,7 +34,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+from numba import njit, prange
 
 INF = np.inf
 #: a ray that misses a pose scores MISS + its distance outside the cutter's radius, so that a
@@ -193,29 +193,11 @@ def _keep(fs, ks, iy, ix, f, k, near):
 
 
 @njit(cache=True, nogil=True)
-def sweep(res, x0, y0, h, pz, nrm, inside, vertical, tip, axis, pose_s, pose_ds, pose_lo,
-          pose_hi, pose_reach, R, r, n_slots, near, n_golden):
-    """Lower ``res`` (ny, nx) to the deepest entry of the swept cutter; in place.
-
-    Grid: cell (iy, ix) has its centre at (x0 + ix h, y0 + iy h), design point z ``pz``,
-    unit normal ``nrm`` (ny, nx, 3); cells with ``inside`` False are skipped; ``vertical``:
-    rays along +z instead of the normal. Path: ``tip``/``axis`` (m, 3) CL points. Poses
-    (k of them, along the feed moves): path position ``pose_s`` (point index + fraction),
-    the distance ``pose_ds`` to the neighbouring poses (in path position), the section
-    ``pose_lo``/``pose_hi`` (first and last point), and the XY radius ``pose_reach`` around
-    the tip inside which the pose can cut.
-
-    1. Stamp: every pose is evaluated on every cell within its reach; each cell keeps its
-       ``n_slots`` best poses from different stretches of path (more than ``near`` poses
-       apart: the passes and links that meet at a cusp or an edge).
-    2. Refine: around each kept pose, golden-section search over the neighbouring stretch
-       [s - ds, s + ds] (``n_golden`` iterations) finds the deepest pose in between. Every
-       kept pose is refined: a sharp rim or a tilted cutter moving sideways makes the entry
-       a narrow V along the path, so no bound on what a stamp misses is safe.
-    """
-    ny, nx = res.shape
-    fs = np.full((n_slots, ny, nx), INF)
-    ks = np.full((n_slots, ny, nx), -1, np.int64)
+def _stamp(fs, ks, x0, y0, h, pz, nrm, inside, vertical, tip, axis, pose_s, pose_lo, pose_hi,
+           pose_reach, R, r, near):
+    """Phase 1 of :func:`sweep`: every pose on every cell within its reach (serial: a parallel
+    region per pose costs more than it saves)."""
+    n_slots, ny, nx = fs.shape
     for k in range(pose_s.shape[0]):
         cx, cy, cz, ax, ay, az = _pose(pose_s[k], pose_lo[k], pose_hi[k], tip, axis)
         reach = pose_reach[k]
@@ -239,7 +221,15 @@ def sweep(res, x0, y0, h, pz, nrm, inside, vertical, tip, axis, pose_s, pose_ds,
                 f = ray_entry(px, py, pz[iy, ix], dx, dy, dz, cx, cy, cz, ax, ay, az, R, r, cap)
                 if f < cap:
                     _keep(fs, ks, iy, ix, f, k, near)
-    for iy in range(ny):
+
+
+@njit(cache=True, nogil=True, parallel=True)
+def _refine(res, fs, ks, x0, y0, h, pz, nrm, vertical, tip, axis, pose_s, pose_ds, pose_lo,
+            pose_hi, R, r, n_golden):
+    """Phase 2 of :func:`sweep`: golden-section search around every kept pose (rows in
+    parallel)."""
+    n_slots, ny, nx = fs.shape
+    for iy in prange(ny):
         py = y0 + iy * h
         for ix in range(nx):
             if ks[0, iy, ix] < 0:
@@ -259,3 +249,32 @@ def sweep(res, x0, y0, h, pz, nrm, inside, vertical, tip, axis, pose_s, pose_ds,
                     best = min(best, _golden(a, b, lo, hi, tip, axis, px, py, pz[iy, ix],
                                              dx, dy, dz, R, r, n_golden))
             res[iy, ix] = best if best < 0.5 * MISS else INF
+
+
+def sweep(res, x0, y0, h, pz, nrm, inside, vertical, tip, axis, pose_s, pose_ds, pose_lo,
+          pose_hi, pose_reach, R, r, n_slots, near, n_golden):
+    """Lower ``res`` (ny, nx) to the deepest entry of the swept cutter; in place.
+
+    Grid: cell (iy, ix) has its centre at (x0 + ix h, y0 + iy h), design point z ``pz``,
+    unit normal ``nrm`` (ny, nx, 3); cells with ``inside`` False are skipped; ``vertical``:
+    rays along +z instead of the normal. Path: ``tip``/``axis`` (m, 3) CL points. Poses
+    (k of them, along the feed moves): path position ``pose_s`` (point index + fraction),
+    the distance ``pose_ds`` to the neighbouring poses (in path position), the section
+    ``pose_lo``/``pose_hi`` (first and last point), and the XY radius ``pose_reach`` around
+    the tip inside which the pose can cut.
+
+    1. Stamp: every pose is evaluated on every cell within its reach; each cell keeps its
+       ``n_slots`` best poses from different stretches of path (more than ``near`` poses
+       apart: the passes and links that meet at a cusp or an edge).
+    2. Refine: around each kept pose, golden-section search over the neighbouring stretch
+       [s - ds, s + ds] (``n_golden`` iterations) finds the deepest pose in between. Every
+       kept pose is refined: a sharp rim or a tilted cutter moving sideways makes the entry
+       a narrow V along the path, so no bound on what a stamp misses is safe.
+    """
+    ny, nx = res.shape
+    fs = np.full((n_slots, ny, nx), INF)
+    ks = np.full((n_slots, ny, nx), -1, np.int64)
+    _stamp(fs, ks, x0, y0, h, pz, nrm, inside, vertical, tip, axis, pose_s, pose_lo, pose_hi,
+           pose_reach, R, r, near)
+    _refine(res, fs, ks, x0, y0, h, pz, nrm, vertical, tip, axis, pose_s, pose_ds, pose_lo,
+            pose_hi, R, r, n_golden)
