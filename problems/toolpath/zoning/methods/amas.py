@@ -34,7 +34,7 @@ class AmasSettings(ZoningSettings):
 
 
 class Amas(ZoningMethod):
-    """Djebali's multi-agent system: each cell joins the neighbouring zone it is happiest in."""
+    """Djebali's multi-agent system: cells move between zones to balance CMD and LZ."""
 
     name = "amas"
     Settings = AmasSettings
