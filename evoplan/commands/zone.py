@@ -96,13 +96,13 @@ def build_plan(cfg: ZoneBase, base_dir: Path):
     from ..problems.toolpath.spec import parse_surface
     from ..problems.toolpath.zoning.plan import plan_zones
     from ..problems.toolpath.zoning.samples import sample_surface
-    from ..problems.toolpath.zoning.stepover import Cutter3Axis
+    from ..problems.toolpath.zoning.stepover import ScallopTarget
 
     surface = parse_surface(cfg.surface, "surface", base_dir=base_dir)
-    cutter = Cutter3Axis.build(cfg.cutter.R, cfg.cutter.r, cfg.h_c, key="cutter")
+    target = ScallopTarget.build(cfg.cutter.R, cfg.cutter.r, cfg.h_c, key="cutter")
     samples = sample_surface(surface, spacing=cfg.sample_spacing)
     settings = getattr(cfg, cfg.method).model_dump()  # the method's own settings group
-    plan = plan_zones(surface, cutter, cfg.method, mesh=tuple(cfg.mesh), delta_l=cfg.delta_l,
+    plan = plan_zones(surface, target, cfg.method, mesh=tuple(cfg.mesh), delta_l=cfg.delta_l,
                       model=cfg.stepover_model, samples=samples, scan=cfg.direction_scan,
                       seed=cfg.seed, merge=cfg.merge, **settings)
     return surface, samples, plan

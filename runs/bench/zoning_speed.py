@@ -17,7 +17,7 @@ from evoplan.problems.toolpath.zoning.amas import amas_zoning
 from evoplan.problems.toolpath.zoning.features import mesh_features
 from evoplan.problems.toolpath.zoning.kmeans import kmeans_zoning
 from evoplan.problems.toolpath.zoning.plan import plan_zones
-from evoplan.problems.toolpath.zoning.stepover import Cutter3Axis
+from evoplan.problems.toolpath.zoning.stepover import ScallopTarget
 
 def best_of(fn, repeat=5):
     times = []
@@ -29,7 +29,7 @@ def best_of(fn, repeat=5):
 
 def main() -> None:
     surface = choi_surface()
-    cutter = Cutter3Axis(3.175, 1.0, 0.254)
+    target = ScallopTarget.build(3.175, 1.0, 0.254)
     f70 = mesh_features(surface, 70, 70)
     t0 = time.perf_counter()
     amas_zoning(f70.optimal_feed, k_cmd=1.0, k_lz=0.15, seed=0)
@@ -44,14 +44,14 @@ def main() -> None:
         print(f"K-means K={k} + connected components 200 x 200: {t:.3f} s, {z.max() + 1} zones "
               f"(target < 0.5 s)")
     t0 = time.perf_counter()
-    plan_zones(surface, cutter, "single", mesh=(4, 4))
+    plan_zones(surface, target, "single", mesh=(4, 4))
     print(f"profile table + first plan: {time.perf_counter() - t0:.2f} s")
     for mesh in ((70, 70), (200, 200)):
-        t, plan = best_of(lambda: plan_zones(surface, cutter, "kmeans", mesh=mesh, k=3), 3)
+        t, plan = best_of(lambda: plan_zones(surface, target, "kmeans", mesh=mesh, k=3), 3)
         print(f"whole K-means pipeline {mesh[0]} x {mesh[1]} (samples, features, K=3, "
               f"directions): {t:.2f} s, {len(plan.zones)} zones, total {plan.total_length:.0f} mm, "
               f"{sum(z.evaluations for z in plan.zones)} length evaluations (target < 5 s)")
-    t, plan = best_of(lambda: plan_zones(surface, cutter, "amas", mesh=(70, 70), k_lz=0.15), 3)
+    t, plan = best_of(lambda: plan_zones(surface, target, "amas", mesh=(70, 70), k_lz=0.15), 3)
     print(f"whole AMAS pipeline 70 x 70: {t:.2f} s, {len(plan.zones)} zones, "
           f"total {plan.total_length:.0f} mm")
 

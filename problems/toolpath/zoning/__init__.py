@@ -4,7 +4,9 @@ Modules, one idea each:
 
 - ``samples``: dense samples of the surface as a graph z(x, y) (slope, direction, Hessian).
 - ``stepover``, ``profile``: the plane spacing keeping the scallop under h_c (R_eff circle of
-  Djebali Eq. 1, or the exact swept profile of the torus), capped by the cutter's width.
+  Djebali Eq. 1, or the exact swept profile of the torus), capped by the cutter's width;
+  ``ScallopTarget`` is the pair (cutter, h_c) every zoning step takes (the cutter is a
+  ``cutters.Cutter``).
 - ``passes``: parallel planes restricted to a zone, its cutting length, a lower bound.
 - ``features``: the n x m mesh and its per-cell features.
 - ``kmeans``: Herraz's K-means zoning and connected zones; ``amas`` (+ ``amas_kernel``):
@@ -14,6 +16,6 @@ Modules, one idea each:
 """
 
 from .plan import METHODS, ZoningPlan, plan_zones
-from .stepover import Cutter3Axis
+from .stepover import ScallopTarget
 
-__all__ = ["METHODS", "Cutter3Axis", "ZoningPlan", "plan_zones"]
+__all__ = ["METHODS", "ScallopTarget", "ZoningPlan", "plan_zones"]

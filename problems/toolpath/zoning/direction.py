@@ -20,7 +20,7 @@ from scipy.optimize import minimize_scalar
 
 from .passes import ZonePasses, zone_passes
 from .samples import SurfaceSamples
-from .stepover import Cutter3Axis
+from .stepover import ScallopTarget
 
 __all__ = ["DirectionResult", "axial_mean", "optimize_direction"]
 
@@ -46,7 +46,7 @@ def axial_mean(angles, weights) -> float:
     return float(np.mod(0.5 * np.arctan2(s, c), np.pi))
 
 
-def optimize_direction(s: SurfaceSamples, cutter: Cutter3Axis, start: float,
+def optimize_direction(s: SurfaceSamples, target: ScallopTarget, start: float,
                        model: str = "profile", scan: int = 12, xatol_deg: float = 0.25,
                        max_evaluations: int = 60) -> DirectionResult:
     """Minimize the zone's cutting length over the feed direction (see the module doc)."""
@@ -55,7 +55,7 @@ def optimize_direction(s: SurfaceSamples, cutter: Cutter3Axis, start: float,
     def length(alpha: float) -> float:
         key = float(np.mod(alpha, np.pi))
         if key not in cache:
-            cache[key] = zone_passes(s, cutter, key, model)
+            cache[key] = zone_passes(s, target, key, model)
         return cache[key].length
 
     start = float(np.mod(start, np.pi))

@@ -27,7 +27,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .samples import SurfaceSamples
-from .stepover import Cutter3Axis, plane_spacing
+from .stepover import ScallopTarget, plane_spacing
 
 __all__ = ["ZonePasses", "zone_passes", "zone_length", "length_lower_bound"]
 
@@ -68,7 +68,7 @@ def _place_planes(s_sorted, d_sorted, band: float, max_planes: int) -> np.ndarra
     return np.asarray(planes)
 
 
-def zone_passes(s: SurfaceSamples, cutter: Cutter3Axis, alpha: float, model: str = "profile",
+def zone_passes(s: SurfaceSamples, target: ScallopTarget, alpha: float, model: str = "profile",
                 max_planes: int = 100_000) -> ZonePasses:
     """Passes of the zone sampled by ``s`` along ``alpha`` (radians); see the module doc.
 
@@ -79,7 +79,7 @@ def zone_passes(s: SurfaceSamples, cutter: Cutter3Axis, alpha: float, model: str
     fx, fy = np.cos(alpha), np.sin(alpha)
     off = -fy * s.x + fx * s.y
     t = fx * s.x + fy * s.y
-    d = plane_spacing(s, cutter, alpha, model)
+    d = plane_spacing(s, target, alpha, model)
     order = np.argsort(off, kind="stable")
     planes = _place_planes(off[order], d[order], s.spacing, max_planes)
     if len(planes) > 1:
@@ -100,12 +100,12 @@ def zone_passes(s: SurfaceSamples, cutter: Cutter3Axis, alpha: float, model: str
     return ZonePasses(float(alpha), planes, lengths, np.diff(planes))
 
 
-def zone_length(s: SurfaceSamples, cutter: Cutter3Axis, alpha: float,
+def zone_length(s: SurfaceSamples, target: ScallopTarget, alpha: float,
                 model: str = "profile") -> float:
     """Cutting length (mm) of the zone along ``alpha``: the black box of Herraz Eq. 3."""
-    return zone_passes(s, cutter, alpha, model).length
+    return zone_passes(s, target, alpha, model).length
 
 
-def length_lower_bound(s: SurfaceSamples, cutter: Cutter3Axis) -> float:
+def length_lower_bound(s: SurfaceSamples, target: ScallopTarget) -> float:
     """No plan of this zone is shorter than its XY area over the widest step w_cap (mm)."""
-    return float(s.area_xy.sum()) / cutter.width_cap
+    return float(s.area_xy.sum()) / target.width_cap

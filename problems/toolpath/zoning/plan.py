@@ -27,7 +27,7 @@ from .methods import get_method, method_names
 from .methods.base import one_line
 from .passes import ZonePasses, length_lower_bound
 from .samples import SurfaceSamples, sample_surface
-from .stepover import Cutter3Axis
+from .stepover import ScallopTarget
 
 __all__ = ["METHODS", "ZonePlan", "ZoningPlan", "zone_labels", "plan_zones", "plan_from_labels"]
 
@@ -91,7 +91,7 @@ def zone_labels(features: MeshFeatures, method, seed: int = 0, **settings) -> tu
 
 
 def plan_from_labels(samples: SurfaceSamples, features: MeshFeatures, labels: np.ndarray,
-                     cutter: Cutter3Axis, model: str = "profile", scan: int = 12) -> tuple[list[ZonePlan], float]:
+                     target: ScallopTarget, model: str = "profile", scan: int = 12) -> tuple[list[ZonePlan], float]:
     """Optimize every zone's direction; returns (zone plans, seconds)."""
     t0 = time.perf_counter()
     n, m = labels.shape
@@ -105,15 +105,15 @@ def plan_from_labels(samples: SurfaceSamples, features: MeshFeatures, labels: np
         in_zone = flat == z
         sub = samples.take(cell_zone == z)
         start = axial_mean(steep[in_zone], weight[in_zone])
-        best = optimize_direction(sub, cutter, start, model=model, scan=scan)
+        best = optimize_direction(sub, target, start, model=model, scan=scan)
         zones.append(ZonePlan(z, int(in_zone.sum()), float(area[in_zone].sum()),
                               float(np.degrees(start)), float(np.degrees(best.alpha)),
                               best.start_length, best.passes,
-                              length_lower_bound(sub, cutter), best.evaluations))
+                              length_lower_bound(sub, target), best.evaluations))
     return zones, time.perf_counter() - t0
 
 
-def plan_zones(surface: Surface, cutter: Cutter3Axis, method: str = "kmeans",
+def plan_zones(surface: Surface, target: ScallopTarget, method: str = "kmeans",
                mesh=(70, 70), delta_l: float = 40.0, model: str = "profile",
                samples: SurfaceSamples | None = None, scan: int = 12, seed: int = 0,
                merge: MergeSettings | None = MergeSettings(), **settings) -> ZoningPlan:
@@ -139,12 +139,12 @@ def plan_zones(surface: Surface, cutter: Cutter3Axis, method: str = "kmeans",
     labels, info = zone_labels(features, zoning, seed=seed, **settings)
     if merge is not None:
         def zone_length(mask):  # Lg of one zone at its optimized direction (Eq. 4 term)
-            one = plan_from_labels(samples, features, np.where(mask, 0, -1), cutter, model, scan)
+            one = plan_from_labels(samples, features, np.where(mask, 0, -1), target, model, scan)
             return one[0][0].length
 
         labels, info["merge"] = merge_zones(labels, features, merge, delta_l, zone_length)
     t2 = time.perf_counter()
-    zones, t_dir = plan_from_labels(samples, features, labels, cutter, model, scan)
+    zones, t_dir = plan_from_labels(samples, features, labels, target, model, scan)
     seconds = {"features": t1 - t0, "zoning": t2 - t1, "directions": t_dir,
                "total": t2 - t0 + t_dir}
     return ZoningPlan(zoning.name, labels, zones, delta_l, seconds, info, features)

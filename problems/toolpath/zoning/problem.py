@@ -26,7 +26,7 @@ from .features import check_mesh, mesh_features
 from .methods import get_method
 from .plan import ZoningPlan, plan_from_labels, zone_labels
 from .samples import sample_surface
-from .stepover import Cutter3Axis
+from .stepover import ScallopTarget
 
 __all__ = ["ZonedToolpathProblem"]
 
@@ -83,9 +83,9 @@ class ZonedToolpathProblem(Problem):
         super().__init__(n_var=2, n_obj=1, xl=np.array([0.0, lo]),
                          xu=np.array([len(ids) - 1.0, hi]), vtype=float, vars=self.variables)
 
-    def cutter(self, tool_index: int) -> Cutter3Axis:
-        t = self.tool_db.tools[int(tool_index)]
-        return Cutter3Axis(t.radius, t.corner_radius, self.h_c)
+    def target(self, tool_index: int) -> ScallopTarget:
+        """The database's cutter at ``tool_index`` with this problem's scallop limit h_c."""
+        return ScallopTarget(self.tool_db.cutter(tool_index), self.h_c)
 
     def _decode(self, value: float):
         """The zoning gene's value as the method's setting (an int for an integer gene)."""
@@ -104,7 +104,7 @@ class ZonedToolpathProblem(Problem):
         """The whole plan (zones, directions, planes) of one decoded gene pair."""
         labels = self.labels(value)
         zones, seconds = plan_from_labels(self.samples, self.features, labels,
-                                          self.cutter(tool_index), self.model)
+                                          self.target(tool_index), self.model)
         return ZoningPlan(self.method, labels, zones, self.delta_l, {"directions": seconds},
                           features=self.features)
 
@@ -116,7 +116,6 @@ class ZonedToolpathProblem(Problem):
     def cl_path(self, params, step: float = 1.0, placement: str = "drop"):
         """(CLPath, mesh labels) of one plan given by name (``tool`` = the tool id, and
         ``zones`` or ``k_lz``): every zone's passes as CL points of the vertical cutter."""
-        from ..cutters import cutter_from_tool
         from .cl_points import zone_cl_path
 
         missing = [k for k in ("tool", self.gene) if k not in params]
@@ -124,8 +123,8 @@ class ZonedToolpathProblem(Problem):
             raise ValueError(f"params.{missing[0]}: missing")
         index = self.tool_db.index_of(params["tool"])
         plan = self.zoning_plan(index, number(params[self.gene], f"params.{self.gene}"))
-        cutter = cutter_from_tool(self.tool_db.tools[index])
-        return zone_cl_path(self.surface, plan, cutter, step=step, placement=placement), plan.labels
+        return (zone_cl_path(self.surface, plan, self.tool_db.cutter(index), step=step,
+                             placement=placement), plan.labels)
 
     def plan(self, tool_index: int, value: float) -> dict[str, float]:
         """Raw numbers of one decoded gene pair (memoized)."""
@@ -134,7 +133,7 @@ class ZonedToolpathProblem(Problem):
         if key not in self._plans:
             labels = self.labels(value)
             zones, _ = plan_from_labels(self.samples, self.features, labels,
-                                        self.cutter(tool_index), self.model)
+                                        self.target(tool_index), self.model)
             cutting = float(sum(z.length for z in zones))
             penalty = (len(zones) - 1) * self.delta_l
             self._plans[key] = {"zones": float(len(zones)), "cutting_length": cutting,

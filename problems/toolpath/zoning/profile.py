@@ -65,17 +65,19 @@ def profile_table(R: float, r: float, h: float) -> ProfileTable:
     return ProfileTable(R, r, h)
 
 
-def profile_width(cutter, t_z, b_z, kappa) -> np.ndarray:
+def profile_width(target, t_z, b_z, kappa) -> np.ndarray:
     """CC spacing (mm, on the surface across the feed) with cusps of at most h_c.
 
-    cutter: R, r, h_c; t_z: (N,) z component of the unit feed tangent; b_z: (N,) z component
-    of the unit cross-feed tangent; kappa: (N,) curvature across the feed (> 0 concave).
+    target: a ``stepover.ScallopTarget`` (cutter, h_c); t_z: (N,) z component of the unit
+    feed tangent; b_z: (N,) z component of the unit cross-feed tangent; kappa: (N,)
+    curvature across the feed (> 0 concave).
     """
     t_z, b_z, kappa = np.broadcast_arrays(*(np.asarray(x, float) for x in (t_z, b_z, kappa)))
-    table = profile_table(float(cutter.R), float(cutter.r), float(cutter.h_c))
+    cutter = target.cutter
+    table = profile_table(float(cutter.radius), float(cutter.corner_radius), float(target.h_c))
     cos_g = np.sqrt(np.maximum(1.0 - t_z * t_z, 1e-300))
     beta = np.arcsin(np.clip(b_z / cos_g, -1.0, 1.0))
     w = table.width(t_z, beta)
-    shrink = 1.0 - kappa * w * w / (8.0 * cutter.h_c)  # secant radius (w/2)^2 / (2 h_c)
+    shrink = 1.0 - kappa * w * w / (8.0 * target.h_c)  # secant radius (w/2)^2 / (2 h_c)
     with np.errstate(divide="ignore", invalid="ignore"):
         return np.where(shrink > 0, w / np.sqrt(np.maximum(shrink, 1e-300)), np.inf)

@@ -4,7 +4,8 @@ For every sample and a horizontal feed direction alpha (radians from +X) this mo
 the largest distance between two adjacent parallel planes that keeps the scallop height
 under h_c at that sample (Djebali et al. Sec. 2.3; Herraz et al. Sec. 3).
 
-1. Effective radius: Djebali Eq. 1 for the toroidal cutter in 3-axis (exact, tool axis z):
+1. Effective radius (``Cutter.effective_radius_3axis``): Djebali Eq. 1 for the toroidal
+   cutter in 3-axis (exact, tool axis z):
    R_eff = (R - r) cos^2(alpha - phi) / (sin S (1 - sin^2(alpha - phi) sin^2 S)) + r; R for
    the ball-end (r = R). Horizontal ground under a torus gives R_eff = inf (the flat cuts).
 2. Curvature across the feed: kappa = II(b, b) / I(b, b) along the cross-feed surface tangent
@@ -19,9 +20,9 @@ under h_c at that sample (Djebali et al. Sec. 2.3; Herraz et al. Sec. 3).
    for small h on a convex / concave section. Where 1/R_eff <= kappa (a concave section at
    least as tight as the effective circle) the circle model predicts no cusp.
 4. Physical cap: a cutter cannot leave a cusp lower than h_c farther apart than its own width
-   at height h_c, w_cap = 2 ((R - r) + sqrt(2 r h_c - h_c^2)) (2R when h_c >= r): the flat
-   bottom plus the corner arc, the widest cut the tool makes on any plane (5.68 mm for
-   R = 3.175, r = 1, h_c = 0.254). w = min(w_circle, w_cap) everywhere.
+   at height h_c (``Cutter.width``), w_cap = 2 ((R - r) + sqrt(2 r h_c - h_c^2)) (2R when
+   h_c >= r): the flat bottom plus the corner arc, the widest cut the tool makes on any
+   plane (5.68 mm for R = 3.175, r = 1, h_c = 0.254). w = min(w_circle, w_cap) everywhere.
 5. Plane spacing: the passes are vertical planes, so the spacing used to place them is the
    horizontal component of w b across the feed: d = w (b . c) / |b|, c = (-sin a, cos a).
 
@@ -37,50 +38,40 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..checks import number
-from ..effective_radius import effective_radius_3axis
+from ..cutters import Cutter, make_cutter
 from .profile import profile_width
 from .samples import SurfaceSamples
 
-__all__ = ["Cutter3Axis", "plane_spacing"]
+__all__ = ["ScallopTarget", "plane_spacing"]
 
 
 @dataclass(frozen=True)
-class Cutter3Axis:
-    """A 3-axis end mill: radius R, corner radius r (R ball-end), scallop limit h_c (mm)."""
+class ScallopTarget:
+    """A 3-axis finish: the cutter (a :class:`~..cutters.Cutter`, axis z) and the scallop
+    height h_c (mm) its passes must keep under. The geometry is the cutter's."""
 
-    R: float
-    r: float
+    cutter: Cutter
     h_c: float
 
     @classmethod
-    def build(cls, R, r, h_c, key: str = "cutter") -> "Cutter3Axis":
-        """Checked constructor: 0 <= r <= R, R > 0, h_c > 0 (ValueError naming the key)."""
+    def build(cls, R, r, h_c, key: str = "cutter") -> "ScallopTarget":
+        """Checked constructor from the radius R, corner radius r and h_c: R > 0,
+        0 <= r <= R, h_c > 0 (ValueError naming the key)."""
         R = number(R, f"{key}.R", positive=True)
         r = number(r, f"{key}.r")
         h = number(h_c, f"{key}.h_c", positive=True)
         if not 0 <= r <= R:
             raise ValueError(f"{key}.r: the corner radius must be in [0, R = {R}], got {r}")
-        return cls(R, r, h)
-
-    @property
-    def is_ball(self) -> bool:
-        return self.r >= self.R
+        return cls(make_cutter(2 * R, r, key=key), h)
 
     @property
     def width_cap(self) -> float:
-        """Widest CC spacing with a cusp <= h_c on any plane: 2 ((R - r) + sqrt(2 r h - h^2))."""
-        h, r = self.h_c, self.r
-        corner = np.sqrt(2 * r * h - h * h) if h < r else r
-        return 2.0 * ((self.R - r) + corner)
-
-    def effective_radius(self, slope, steepest, alpha) -> np.ndarray:
-        """R_eff: Djebali Eq. 1 (torus, 3-axis), R for a ball-end; (N,) mm."""
-        if self.is_ball:
-            return np.full(np.shape(slope), self.R)
-        return effective_radius_3axis(self.R, self.r, slope, alpha, steepest)
+        """Widest CC spacing with a cusp <= h_c on any plane: twice the cutter's half-width
+        at h_c, 2 ((R - r) + sqrt(2 r h_c - h_c^2)) (2 R when h_c >= r)."""
+        return float(2 * self.cutter.width(self.h_c))
 
 
-def plane_spacing(s: SurfaceSamples, cutter: Cutter3Axis, alpha: float,
+def plane_spacing(s: SurfaceSamples, target: ScallopTarget, alpha: float,
                   model: str = "profile") -> np.ndarray:
     """Largest horizontal distance (mm) between parallel planes along ``alpha`` keeping the
     scallop <= h_c at each sample: (N,). ``model``: "circle" (R_eff, Djebali Eq. 1) or
@@ -98,12 +89,12 @@ def plane_spacing(s: SurfaceSamples, cutter: Cutter3Axis, alpha: float,
     across = (bx * -fy + by * fx) / np.sqrt(b2)  # (b . c) / |b|
     if model == "profile":
         t_z = (p * fx + q * fy) / np.sqrt(1 + (p * fx + q * fy) ** 2)
-        w = profile_width(cutter, t_z, bz / np.sqrt(b2), kappa)
-        return np.minimum(w, cutter.width_cap) * across
-    r_eff = cutter.effective_radius(s.slope, s.steepest, alpha)
+        w = profile_width(target, t_z, bz / np.sqrt(b2), kappa)
+        return np.minimum(w, target.width_cap) * across
+    r_eff = target.cutter.effective_radius_3axis(s.slope, s.steepest, alpha)
     inv_r = 1.0 / r_eff  # 0 where R_eff = inf
-    h = cutter.h_c
+    h = target.h_c
     margin = inv_r - kappa
     with np.errstate(divide="ignore", invalid="ignore"):
         w_circle = np.where(margin > 0, np.sqrt(4 * h * (2 - h * inv_r) / margin), np.inf)
-    return np.minimum(w_circle, cutter.width_cap) * across
+    return np.minimum(w_circle, target.width_cap) * across

@@ -11,7 +11,7 @@ from evoplan.problems.toolpath.zoning.features import mesh_features
 from evoplan.problems.toolpath.zoning.passes import ZonePasses
 from evoplan.problems.toolpath.zoning.plan import ZonePlan, ZoningPlan, plan_from_labels
 from evoplan.problems.toolpath.zoning.samples import sample_surface
-from evoplan.problems.toolpath.zoning.stepover import Cutter3Axis
+from evoplan.problems.toolpath.zoning.stepover import ScallopTarget
 
 SLOPE = 0.4
 
@@ -123,7 +123,7 @@ def test_cc_placement_gouges_a_valley_and_the_drop_does_not():
     n, m = 20, 12
     labels = _labels(n, m)
     zones, _ = plan_from_labels(sample_surface(surface, spacing=0.5), mesh_features(surface, n, m),
-                                labels, Cutter3Axis(4.0, 1.0, 0.2))
+                                labels, ScallopTarget.build(4.0, 1.0, 0.2))
     plan = ZoningPlan("single", labels, zones, 0.0, {})
     cutter = make_cutter(8.0, 1.0)
     cc_path = zone_cl_path(surface, plan, cutter, step=2.0, placement="cc")

@@ -17,10 +17,10 @@ from evoplan.problems.toolpath.zoning.passes import length_lower_bound, zone_pas
 from evoplan.problems.toolpath.zoning.plan import plan_zones
 from evoplan.problems.toolpath.zoning.profile import profile_width
 from evoplan.problems.toolpath.zoning.samples import sample_surface
-from evoplan.problems.toolpath.zoning.stepover import Cutter3Axis, plane_spacing
+from evoplan.problems.toolpath.zoning.stepover import ScallopTarget, plane_spacing
 
-TORUS = Cutter3Axis(3.175, 1.0, 0.254)
-BALL = Cutter3Axis(3.175, 3.175, 0.254)
+TORUS = ScallopTarget.build(3.175, 1.0, 0.254)
+BALL = ScallopTarget.build(3.175, 3.175, 0.254)
 
 
 def plane(slope_x=0.0, slope_y=0.0, size=(40.0, 30.0)):
@@ -153,7 +153,7 @@ def test_bad_input_is_a_clear_error():
     with pytest.raises(ValueError, match="^mesh: a mesh needs at least 2 cells"):
         mesh_features(plane(), 0, 5)
     with pytest.raises(ValueError, match="^cutter.r: the corner radius"):
-        Cutter3Axis.build(3.0, 4.0, 0.1)
+        ScallopTarget.build(3.0, 4.0, 0.1)
 
 
 def run_cli(args):

@@ -19,7 +19,7 @@ from evoplan.problems.toolpath.zoning.methods import (REGISTRY, ZoningMethod, Zo
 from evoplan.problems.toolpath.zoning.plan import plan_zones
 from evoplan.problems.toolpath.zoning.problem import ZonedToolpathProblem
 from evoplan.problems.toolpath.zoning.samples import sample_surface
-from evoplan.problems.toolpath.zoning.stepover import Cutter3Axis
+from evoplan.problems.toolpath.zoning.stepover import ScallopTarget
 
 from test_zoning import TORUS, TwoPlanes
 
@@ -174,7 +174,7 @@ def test_shipped_amas_default_on_choi_beats_raw_amas_and_a_single_zone():
     cfg = load(str(RUNS / "choi_zoning.yaml"))
     assert cfg.method == "amas" and cfg.merge == MergeSettings()
     surface, samples, plan = build_plan(cfg, RUNS)
-    cutter = Cutter3Axis(cfg.cutter.R, cfg.cutter.r, cfg.h_c)
+    cutter = ScallopTarget.build(cfg.cutter.R, cfg.cutter.r, cfg.h_c)
     common = dict(mesh=tuple(cfg.mesh), samples=samples, delta_l=cfg.delta_l)
     raw = plan_zones(surface, cutter, "amas", merge=None, seed=cfg.seed, **common)
     single = plan_zones(surface, cutter, "single", **common)
