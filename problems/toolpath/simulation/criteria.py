@@ -68,7 +68,7 @@ class SimulatedCriteria:
     def measure(self, path, flat: bool) -> dict[str, float]:
         """The simulated criteria of one CL path (``flat``: a flat-end cutter)."""
         grid = self.grid
-        res = sweep_path(path, grid, vertical=self.vertical, threads=1).values
+        res = sweep_path(path, grid, vertical=self.vertical).values
         m = residual_metrics(grid, res, self.allowance)
         dev = np.abs(np.clip(res[grid.inside], -np.inf, self.allowance))
         area = grid.cell_area()[grid.inside]

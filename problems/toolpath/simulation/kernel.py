@@ -34,7 +34,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
 INF = np.inf
 #: a ray that misses a pose scores MISS + its distance outside the cutter's radius, so that a
@@ -223,13 +223,14 @@ def _stamp(fs, ks, x0, y0, h, pz, nrm, inside, vertical, tip, axis, pose_s, pose
                     _keep(fs, ks, iy, ix, f, k, near)
 
 
-@njit(cache=True, nogil=True, parallel=True)
+@njit(cache=True, nogil=True)
 def _refine(res, fs, ks, x0, y0, h, pz, nrm, vertical, tip, axis, pose_s, pose_ds, pose_lo,
             pose_hi, R, r, n_golden):
-    """Phase 2 of :func:`sweep`: golden-section search around every kept pose (rows in
-    parallel)."""
+    """Phase 2 of :func:`sweep`: golden-section search around every kept pose. Serial, like
+    the stamps: a simulation runs on one core, and a population's simulations run in
+    parallel processes (numba's thread pool does not survive a fork)."""
     n_slots, ny, nx = fs.shape
-    for iy in prange(ny):
+    for iy in range(ny):
         py = y0 + iy * h
         for ix in range(nx):
             if ks[0, iy, ix] < 0:

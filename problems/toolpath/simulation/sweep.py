@@ -12,7 +12,6 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass
 
-import numba
 import numpy as np
 
 from ..clpath import CLPath
@@ -70,8 +69,7 @@ def poses(path: CLPath, pose_step: float):
 
 
 def sweep_path(path: CLPath, grid: DesignGrid, *, vertical: bool = False,
-               pose_step: float | None = None, tol: float = 4e-3, n_slots: int = 3,
-               threads: int | None = None) -> Residual:
+               pose_step: float | None = None, tol: float = 4e-3, n_slots: int = 3) -> Residual:
     """The residual of every cell after the whole path has been cut (see the module doc).
 
     ``pose_step`` (mm of tip travel between stamped poses; default 0.75, 0.25 for a flat end
@@ -82,9 +80,7 @@ def sweep_path(path: CLPath, grid: DesignGrid, *, vertical: bool = False,
     0.0016 mm off on 0.015 % of the cells, ball D12 0.0043 mm on 0.006 %, where a pass
     turns into a link; flat D8 0.027 mm on 0.08 %, where the rim of the tilted cutter
     passes a cell during a link move (a dip narrower than the stamps). ``n_slots``: how
-    many stretches of path (passes, links) each cell remembers as candidates. ``threads``:
-    numba threads for the kernels (default: numba's, i.e. every core; 1 inside worker
-    processes that already share the cores). The result does not depend on it.
+    many stretches of path (passes, links) each cell remembers as candidates.
     """
     t0 = time.perf_counter()
     R, r, h = path.radius, path.corner_radius, grid.h
@@ -99,13 +95,8 @@ def sweep_path(path: CLPath, grid: DesignGrid, *, vertical: bool = False,
     sin_tilt = np.sqrt(np.clip(1.0 - path.axis[:, 2] ** 2, 0.0, 1.0))
     reach = R + r * sin_tilt[pi] + 2.0 * h
     n_golden = max(int(np.ceil(np.log(tol / (2.0 * pose_step)) / np.log(0.5 * (np.sqrt(5) - 1)))), 1)
-    before = numba.get_num_threads()
-    numba.set_num_threads(before if threads is None else max(1, min(int(threads), numba.config.NUMBA_NUM_THREADS)))
-    try:
-        sweep(res, grid.x0, grid.y0, h, grid.z, grid.normal, grid.inside, bool(vertical),
-              path.tip, path.axis, s, ds, lo, hi, reach, float(R), float(r), int(n_slots), 2,
-              n_golden)
-    finally:
-        numba.set_num_threads(before)
+    sweep(res, grid.x0, grid.y0, h, grid.z, grid.normal, grid.inside, bool(vertical),
+          path.tip, path.axis, s, ds, lo, hi, reach, float(R), float(r), int(n_slots), 2,
+          n_golden)
     res[~grid.inside] = np.nan
     return Residual(res, bool(vertical), time.perf_counter() - t0, len(s))

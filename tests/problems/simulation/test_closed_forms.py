@@ -142,13 +142,3 @@ def test_metrics_of_a_plane_cut():
     assert m["uncut_fraction"] == pytest.approx(uncut.mean(), abs=2 * H / 30)
     assert m["scallop_max_mm"] == 0.5  # uncut cells keep the allowance
 
-
-def test_the_result_does_not_depend_on_the_thread_count():
-    R, s = 4.0, 2.5
-    g = _plane_grid(20.0, 15.0)
-    ys = 3.025 + s * np.arange(5)
-    tips, axes, sec = _passes(ys, lambda y: (y, 0.0), lambda y: (0.05, 0.0, 1.0), x1=26.0, n=9)
-    path = CLPath(tips, axes, 2 * R, 1.5, section=sec)
-    one = sweep_path(path, g, threads=1).values
-    two = sweep_path(path, g, threads=2).values
-    assert np.array_equal(np.nan_to_num(one), np.nan_to_num(two))
