@@ -3,7 +3,8 @@
 Modules, one idea each:
 
 - ``surface``, ``bezier``, ``bspline``: parametric surfaces, batched differential geometry.
-- ``tools``, ``effective_radius``: cutters, the tool database, R_eff.
+- ``cutters``: the cutter shapes and their geometry (silhouette, R_eff, drop-cutter, APT);
+  ``tools``: the tool database.
 - ``pattern``: zig-zag parallel planes -> CC pattern (batched, with chord refinement).
 - ``chord``, ``scallop``, ``length``: the criteria.
 - ``simulator``: parameter sets -> CC patterns and every raw criterion.

@@ -20,6 +20,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .cutters import Cutter, make_cutter
+
 __all__ = ["CLPath"]
 
 
@@ -68,6 +70,11 @@ class CLPath:
         return self.diameter / 2.0
 
     @property
+    def cutter(self) -> Cutter:
+        """The path's cutter (shape inferred from D and r by ``cutters.make_cutter``)."""
+        return make_cutter(self.diameter, self.corner_radius, key="toolpath.cutter")
+
+    @property
     def feed_moves(self) -> np.ndarray:
         """(m - 1,) bool: move i (point i -> i + 1) is a feed move inside one section."""
         return self.section[1:] == self.section[:-1]
@@ -80,7 +87,7 @@ class CLPath:
         tip = np.asarray(apt.tip, float)
         axis = np.asarray(apt.axis, float)
         if apt.tip_is_centre:
-            tip = tip - apt.corner_radius * axis
+            tip = make_cutter(apt.diameter, apt.corner_radius, key="apt.cutter").centre_to_tip(tip, axis)
         section = np.cumsum(np.asarray(apt.rapid, bool))
         feed = np.asarray(apt.feed, float)
         rate = float(np.nanmax(feed)) if np.isfinite(feed).any() else 1000.0

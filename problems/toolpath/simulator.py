@@ -10,7 +10,7 @@ Criteria (each (n,), see :data:`CRITERIA`), per toolpath:
 - ``cc_count`` CC points; ``n_passes`` passes.
 - ``chord_error_mean`` / ``chord_error_max``: true curve-to-chord distance per segment
   (``chord.py``; not Fountas Eq. 3 as printed).
-- ``r_eff``: 5-axis effective radius (``effective_radius.py``; inf for a flat bottom).
+- ``r_eff``: 5-axis effective radius (``cutters/effective_radius.py``; inf for a flat bottom).
 - ``scallop_max`` / ``scallop_mean``: material left at the middle of each gap between
   adjacent passes, from the projected cutter profile, the surface spacing of the CC points
   across the feed and the normal curvature across the feed (``scallop.py`` on the cutter's
@@ -33,7 +33,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .clpath import CLPath
-from .effective_radius import effective_radius_lead_tilt
+from .cutters.effective_radius import effective_radius_lead_tilt
 from .length import cutting_length, link_length, machining_time, travel_order
 from .pattern import PassGeometry, PatternBatch, cc_pattern_batch
 from .cutters.silhouette import profile_tables

@@ -4,6 +4,7 @@
   on them: CC -> tip offset, drop-cutter, R_eff, the APT statement) and the registry
   (:func:`register`, :func:`make_cutter`).
 - ``shapes``: the flat-end, ball-end and toroidal cutters (one torus geometry).
+- ``effective_radius``: R_eff (Djebali Eq. 1, the general lead/tilt form), once.
 - ``silhouette``: the swept cross-section (silhouette) of the torus-family shapes, once,
   for the 5-axis scallop tables and the 3-axis zoning step-over.
 - ``drop`` (+ ``drop_rim``): the 3-axis drop-cutter against an exact parametric surface.

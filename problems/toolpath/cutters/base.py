@@ -25,7 +25,7 @@ from abc import ABC, abstractmethod
 
 import numpy as np
 
-from ..effective_radius import effective_radius, effective_radius_3axis, effective_radius_lead_tilt
+from .effective_radius import effective_radius, effective_radius_3axis, effective_radius_lead_tilt
 from .drop import drop_cutter
 
 __all__ = ["Cutter", "CUTTERS", "register", "make_cutter", "cutter_from_tool", "cutter_names"]
@@ -141,6 +141,12 @@ class Cutter(ABC):
     def support_point(self, axis, direction):
         """Point of the cutting end furthest along ``direction`` (k, 3), relative to the tip."""
 
+    @property
+    @abstractmethod
+    def centre_height(self) -> float:
+        """Height above the tip, on the axis, of the point a CL file may give instead of the
+        tip (APT ``$$ TOOLPOINT CENTRE``)."""
+
     # -- written once on the primitives ------------------------------------------------
     @property
     def radius(self) -> float:
@@ -165,6 +171,10 @@ class Cutter(ABC):
         n = _unit(normal)
         a = np.broadcast_to(_unit(axis), n.shape)
         return cc - self.support_point(a, -n)
+
+    def centre_to_tip(self, centre, axis):
+        """Tips (k, 3) of CL points given as the tool centre: centre - centre_height a."""
+        return np.asarray(centre, float) - self.centre_height * np.asarray(axis, float)
 
     def drop_cutter(self, surface, xy, return_contact: bool = False, **options):
         """Gouge-free 3-axis placement: tip z (k,) of the vertical cutter at XY (k, 2).

@@ -43,6 +43,12 @@ class _Revolved(Cutter):
         """R0 = R - r: radius of the circle of corner-arc centres (flat bottom)."""
         return self.radius - self.corner_radius
 
+    @property
+    def centre_height(self) -> float:
+        """r: the centre of the ball (ball-end) or the plane of the tube circle (torus); the
+        tip itself for a flat-end."""
+        return self.corner_radius
+
     def height_jet(self, s):
         """(g, g', g'') of the lower profile at s = rho^2 / 2 (module docstring), with
         g' = h'(rho) / rho and g'' = (h''(rho) - h'(rho) / rho) / rho^2; inf beyond R."""

@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..effective_radius import effective_radius_lead_tilt
+from .effective_radius import effective_radius_lead_tilt
 
 __all__ = ["silhouette_point", "profile_tables", "side_width_exact"]
 

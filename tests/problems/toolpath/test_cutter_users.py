@@ -67,3 +67,32 @@ def test_the_3axis_and_5axis_silhouettes_agree_with_the_closed_form(r, slope_deg
         assert np.allclose(side3, side5, atol=1e-3)  # the table is sampled: ~3e-4
     if S == 0:
         assert np.allclose(side3, make_cutter(2 * R, r).width(h), atol=1e-9)
+
+
+@pytest.mark.parametrize("d, r", [(8.0, 0.0), (8.0, 1.0), (8.0, 4.0)])
+def test_the_centre_is_the_corner_arcs_centre_and_centre_points_read_back_as_tips(d, r):
+    """The lower profile's corner arc is the circle of radius r about the point centre_height
+    above the tip, R0 = R - r off the axis (the ball's centre for a ball-end); a CL file
+    written at the centre reads back at the tips."""
+    from evoplan.problems.toolpath.clpath import CLPath
+    from evoplan.problems.toolpath.cutters import make_cutter
+
+    c = make_cutter(d, r)
+    r0 = d / 2 - r
+    rho = np.linspace(r0, d / 2, 50)
+    assert np.allclose((rho - r0) ** 2 + (c.height(rho) - c.centre_height) ** 2, r * r)
+    assert np.all(c.height(np.linspace(0.0, r0, 20)) == 0.0)
+    rng = np.random.default_rng(3)
+    tip = rng.normal(size=(5, 3))
+    axis = rng.normal(size=(5, 3))
+    axis /= np.linalg.norm(axis, axis=1, keepdims=True)
+
+    class Apt:  # what outputs.apt_read.read_apt gives, reduced to what CLPath reads
+        diameter, corner_radius, tip_is_centre = d, r, True
+        rapid = np.zeros(5, bool)
+        feed = np.full(5, 800.0)
+        section = np.zeros(5, int)
+
+    Apt.tip, Apt.axis = tip + c.centre_height * axis, axis
+    path = CLPath.from_apt(Apt)
+    assert np.allclose(path.tip, tip, atol=1e-12) and path.cutter == c

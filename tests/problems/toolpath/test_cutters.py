@@ -12,7 +12,7 @@ from toolpath_analytic import Cylinder, Plane, Sphere
 from evoplan.problems.toolpath.cutters import (
     CUTTERS, BallEndCutter, FlatEndCutter, ToroidalCutter, cutter_from_tool, make_cutter)
 from evoplan.problems.toolpath.cutters.surface_grid import surface_grid
-from evoplan.problems.toolpath.effective_radius import (
+from evoplan.problems.toolpath.cutters.effective_radius import (
     effective_radius_3axis, effective_radius_lead_tilt)
 from evoplan.problems.toolpath.spec import parse_surface
 from evoplan.problems.toolpath.tools import parse_tools

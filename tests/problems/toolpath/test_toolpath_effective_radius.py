@@ -6,7 +6,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from evoplan.problems.toolpath import fountas_surface
-from evoplan.problems.toolpath.effective_radius import (
+from evoplan.problems.toolpath.cutters.effective_radius import (
     effective_radius, effective_radius_3axis, effective_radius_fountas_eq4,
     effective_radius_lead_tilt,
 )
