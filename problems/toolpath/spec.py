@@ -50,6 +50,23 @@ def _fail(key: str, msg: str):
     raise ValueError(f"{key}: {msg}")
 
 
+MAX_NET_BYTES = 4 * 2**20
+
+
+def _net_loader():
+    """PyYAML's safe loader without aliases: a control net never needs them, and an alias
+    bomb expands to gigabytes. Deep nesting ends in a RecursionError, which is caught."""
+    import yaml
+
+    class NetLoader(yaml.SafeLoader):
+        def compose_node(self, parent, index):
+            if self.check_event(yaml.events.AliasEvent):
+                raise yaml.YAMLError("aliases are not allowed in a control-net file")
+            return super().compose_node(parent, index)
+
+    return NetLoader
+
+
 def load_poles(source, key: str = "surface.poles", base_dir=None) -> np.ndarray:
     """A control net (nu, nv, 3) float from a nested list or a file path (see module doc)."""
     if isinstance(source, (str, Path)):
@@ -61,11 +78,13 @@ def load_poles(source, key: str = "surface.poles", base_dir=None) -> np.ndarray:
         suffix = path.suffix.lower()
         import yaml
 
+        if path.stat().st_size > MAX_NET_BYTES:
+            _fail(key, f"{path} is larger than {MAX_NET_BYTES // 2**20} MiB: not a control net")
         try:
             if suffix == ".json":
-                data = json.loads(path.read_text())
+                data = json.loads(path.read_text(encoding="utf-8"))
             elif suffix in (".yaml", ".yml"):
-                data = yaml.safe_load(path.read_text())
+                data = yaml.load(path.read_text(encoding="utf-8"), Loader=_net_loader())
             elif suffix == ".csv":
                 return _poles_from_csv(path, key)
             else:
