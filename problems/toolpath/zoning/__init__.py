@@ -11,6 +11,9 @@ Modules, one idea each:
 - ``features``: the n x m mesh and its per-cell features.
 - ``kmeans``: Herraz's K-means zoning and connected zones; ``amas`` (+ ``amas_kernel``):
   Djebali's multi-agent zoning.
+- ``methods``: the zoning-method registry (``single``, ``kmeans``, ``amas``: one module
+  each, one ``ZoningMethod`` abstraction); ``merge``: the post-process after any method
+  (minimum zone area, then Eq. 4 merging).
 - ``direction``: per-zone feed direction (scipy bounded); ``plan``: the Eq. 4 pipeline.
 - ``problem``: zoning as genes of a pymoo problem; ``figures``: the zone map.
 """
