@@ -10,6 +10,8 @@ is largest: Djebali Sec. 2.1), and the cell's surface area (2 x 2 Gauss quadratu
 
 from __future__ import annotations
 
+import os
+
 from dataclasses import dataclass
 
 import numpy as np
@@ -29,7 +31,22 @@ def check_mesh(n, m, key: str = "mesh") -> tuple[int, int]:
     if n_i != n or m_i != m or n_i < 1 or m_i < 1 or n_i * m_i < 2:
         raise ValueError(f"{key}: a mesh needs at least 2 cells (n, m >= 1 integers), "
                          f"got {n} x {m}")
+    need = n_i * m_i * BYTES_PER_CELL
+    if need > _memory_limit():
+        raise ValueError(f"{key}: a {n_i} x {m_i} mesh needs about {need / 2**30:.1f} GiB, more "
+                         f"than half of this machine's memory")
     return n_i, m_i
+
+
+#: float64 fields per mesh cell over the zoning pipeline (features, samples, labels, passes)
+BYTES_PER_CELL = 24 * 8
+
+
+def _memory_limit() -> float:
+    try:
+        return 0.5 * os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
+    except (ValueError, OSError, AttributeError):
+        return 8.0 * 2**30
 
 
 @dataclass(frozen=True)

@@ -28,3 +28,10 @@ def test_a_good_yaml_net_still_loads(tmp_path):
     path = tmp_path / "net.yaml"
     path.write_text("poles: [[[0, 0, 0], [0, 1, 0]], [[1, 0, 0], [1, 1, 1]]]\n")
     assert load_poles(str(path)).shape == (2, 2, 3)
+
+
+def test_a_zoning_mesh_too_large_for_memory_is_refused_before_allocation():
+    from evoplan.problems.toolpath.zoning.problem import ZonedToolpathProblem
+
+    with pytest.raises(ValueError, match=r"^mesh: a 200000 x 200000 mesh needs about [0-9.]+ GiB"):
+        ZonedToolpathProblem(mesh=(200000, 200000))
