@@ -3,7 +3,8 @@
 The base install runs evoplan's own algorithms, the pymoo adapters, the toolpath and zoning
 problems, studies and figures. Single features need an extra (see ``pyproject.toml``):
 ``dask`` (the Dask backend), ``deap`` (the ``deap_easimple`` adapter), ``bbob`` (BBOB problems
-through ``ioh``), ``docs`` (building the documentation); ``test`` installs them all.
+through ``ioh``), ``docs`` (building the documentation), ``exchange`` (DXF and STL files of
+``evoplan machine``); ``test`` installs them all.
 """
 
 from __future__ import annotations

@@ -137,8 +137,11 @@ def plan_from_run(run: Path) -> tuple[dict, dict]:
 
 
 def main(args: argparse.Namespace) -> int:
+    from ..extras import require
     from ..problems.toolpath.roughing.operation_set import build_operations
 
+    require("ezdxf", "exchange", "evoplan machine (surface.dxf, toolpaths.dxf)")
+    require("stl", "exchange", "evoplan machine (surface.stl)")
     cfg = load(args.config)
     out = Path(args.out or Path("results") / f"{cfg.name}-{time.strftime('%Y%m%d-%H%M%S')}")
     if out.exists() and (not out.is_dir() or any(out.iterdir())):
