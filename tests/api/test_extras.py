@@ -25,7 +25,7 @@ def test_test_extra_pulls_in_every_feature_extra():
     features = set(extras) - {"test", "profile"}
     assert features and features <= pulled
     base = " ".join(project["dependencies"])
-    for lib in ("deap", "dask", "ioh", "mkdocs"):
+    for lib in ("deap", "dask", "ioh", "mkdocs", "ezdxf", "numpy-stl"):
         assert lib not in base  # not in the base install
 
 
@@ -48,3 +48,13 @@ def test_missing_ioh_names_the_bbob_extra(tmp_path, capsys, monkeypatch):
     assert main(["study", str(study), "--out", str(tmp_path / "s"), "--quiet"]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and 'pip install "evoplan[bbob]"' in err
+
+
+@pytest.mark.parametrize("module", ["ezdxf", "stl"])
+def test_missing_exchange_library_is_one_line(tmp_path, capsys, monkeypatch, module):
+    monkeypatch.setitem(sys.modules, module, None)
+    out = tmp_path / "m"
+    assert main(["machine", str(ROOT / "runs" / "abbas_gentle.yaml"), "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and 'pip install "evoplan[exchange]"' in err
+    assert not out.exists()
