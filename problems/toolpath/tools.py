@@ -53,7 +53,7 @@ class Tool:
         return self.diameter / 2.0
 
     def label(self) -> str:
-        return self.name or f"{self.type} D{self.diameter:g} r{self.corner_radius:g}"
+        return self.name or self.cutter.label()
 
 
 DEFAULT_TOOLS = [
