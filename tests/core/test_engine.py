@@ -2,7 +2,7 @@ import numpy as np
 import pytest
 
 from evoplan.config import parse_config
-from evoplan.engine import Checkpointer, Termination, run
+from evoplan.engine import Checkpointer, run
 from evoplan.runner import prepare
 
 
