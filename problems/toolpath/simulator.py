@@ -14,7 +14,7 @@ Criteria (each (n,), see :data:`CRITERIA`), per toolpath:
 - ``scallop_max`` / ``scallop_mean``: material left at the middle of each gap between
   adjacent passes, from the projected cutter profile, the surface spacing of the CC points
   across the feed and the normal curvature across the feed (``scallop.py`` on the cutter's
-  silhouette, ``cutters/silhouette.py``), per CC point.
+  silhouette, ``Cutter.swept_profile``), per CC point.
 - ``gouge_max``: depth cut below the surface there (profile flatter than a concave section).
 - ``undercut_max``: for cutters with a sharp rim (flat-end, ``Cutter.sharp_rim``), the
   scallop (left by the rim and the inclined bottom: Fountas' h_u after Bedi et al. 1996);
@@ -36,7 +36,6 @@ from .clpath import CLPath
 from .cutters.effective_radius import effective_radius_lead_tilt
 from .length import cutting_length, link_length, machining_time, travel_order
 from .pattern import PassGeometry, PatternBatch, cc_pattern_batch
-from .cutters.silhouette import profile_tables
 from .scallop import gap_heights
 from .surface import Surface, normal_curvature, unit_normal
 from .tools import ToolDatabase
@@ -119,7 +118,7 @@ class ToolpathSimulator:
         direction = np.where(last, -1, 1)
         sigma = np.where(k % 2 == 0, 1, -1)
         w = pb.pass_spacing[pt_pass] / bc
-        tables = profile_tables(g["R"], g["r"], g["lead"], g["tilt"])
+        tables = self._swept_profiles(g["tool"], g["lead"], g["tilt"])
         h = gap_heights(tables, ind, sigma * direction, w, kappa, self.allowance)
         h = np.where(n_int[ind] > 0, h, 0.0)
         scallop = np.maximum(h, 0.0)
@@ -134,6 +133,24 @@ class ToolpathSimulator:
         crit["machining_time"] = machining_time(crit["path_length"], self.feed_rate)
         point = dict(normal=nrm, h=h, kappa=kappa, w=w, sigma=sigma)
         return pb, point, {name: crit[name] for name in CRITERIA}
+
+    def _swept_profiles(self, ti, lead, tilt):
+        """Profile tables (x, z, reach) of every row (rows 2i, 2i + 1 for row i of X): each
+        tool's cutter gives the tables of its rows (``Cutter.swept_profile``); a shorter
+        table is padded with its last point (the profile is vertical beyond its reach)."""
+        parts = []
+        for t in np.unique(ti):
+            rows = np.flatnonzero(ti == t)
+            parts.append((rows, self.tools.cutter(t).swept_profile(lead[rows], tilt[rows])))
+        m = max(p[1][0].shape[1] for p in parts)
+        x = np.empty((2 * len(ti), m))
+        z = np.empty((2 * len(ti), m))
+        reach = np.empty(2 * len(ti))
+        for rows, (xt, zt, rt) in parts:
+            at = np.stack([2 * rows, 2 * rows + 1], axis=1).ravel()
+            pad = ((0, 0), (0, m - xt.shape[1]))
+            x[at], z[at], reach[at] = np.pad(xt, pad, mode="edge"), np.pad(zt, pad, mode="edge"), rt
+        return x, z, reach
 
     @staticmethod
     def _reduce(pb: PatternBatch, ind, scallop, gouge, err) -> dict:

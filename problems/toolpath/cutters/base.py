@@ -8,7 +8,10 @@ implements three primitives, all batched over numpy arrays:
   function of s = rho^2 / 2 (rho the radial distance from the axis), with its first two
   derivatives in s (inf beyond the radius R);
 - :meth:`Cutter.width`: the half-width at a height above the tip;
-- :meth:`Cutter.support_point`: the point of the cutting end furthest along a direction.
+- :meth:`Cutter.support_point`: the point of the cutting end furthest along a direction;
+- :meth:`Cutter.swept_profile` (5-axis) and :meth:`Cutter.swept_side_width` (3-axis): the
+  silhouette, the cross-section swept by a straight move (``silhouette.py`` for the
+  torus family).
 
 Everything else (the CC -> tip offset, the 3-axis drop-cutter, the APT statement) is written
 once here on top of these primitives, so nothing outside this package branches on the
@@ -140,6 +143,18 @@ class Cutter(ABC):
     @abstractmethod
     def support_point(self, axis, direction):
         """Point of the cutting end furthest along ``direction`` (k, 3), relative to the tip."""
+
+    @abstractmethod
+    def swept_profile(self, lead, tilt):
+        """5-axis silhouette: (x, z, reach) tables of the cross-feed profile on both sides of
+        the contact for lead/tilt (radians, (k,)): rows 2j (+b side) and 2j + 1 (-b side), x
+        ascending, z the height above the tangent plane, reach the last x."""
+
+    @abstractmethod
+    def swept_side_width(self, h, t_z, beta):
+        """3-axis silhouette (vertical axis): lateral offset (mm) on the +b side where the
+        profile rises to h above the contact; t_z the feed tangent's |z|, beta the angle of
+        the cross-feed tangent to the horizontal (radians); arrays broadcast."""
 
     @property
     @abstractmethod

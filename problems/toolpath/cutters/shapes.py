@@ -25,6 +25,7 @@ from __future__ import annotations
 import numpy as np
 
 from .base import Cutter, register
+from .silhouette import profile_tables, side_width_exact
 
 __all__ = ["ToroidalCutter", "FlatEndCutter", "BallEndCutter"]
 
@@ -42,6 +43,16 @@ class _Revolved(Cutter):
     def rim_radius(self) -> float:
         """R0 = R - r: radius of the circle of corner-arc centres (flat bottom)."""
         return self.radius - self.corner_radius
+
+    def swept_profile(self, lead, tilt):
+        """The 5-axis silhouette tables (``silhouette.profile_tables``) at lead/tilt (k,)."""
+        lead = np.atleast_1d(np.asarray(lead, float))
+        return profile_tables(np.full(lead.shape, self.radius),
+                              np.full(lead.shape, self.corner_radius), lead, tilt)
+
+    def swept_side_width(self, h, t_z, beta):
+        """The 3-axis side width (``silhouette.side_width_exact``)."""
+        return side_width_exact(self.radius, self.corner_radius, h, t_z, beta)
 
     @property
     def centre_height(self) -> float:

@@ -13,8 +13,8 @@ the plane normal to the feed tangent t (``cutters/silhouette.py``: the rim proje
 ellipse of semi-axes R - r across the feed and (R - r) |t_z| upwards, offset by r). The
 surface's cross-section is the line through the contact along the cross-feed tangent, at
 angle beta to the horizontal (sin beta = b_z / cos(feed inclination)); the profile's height
-above it rises on each side, and ``side_width_exact`` gives the lateral offset x where it
-reaches h_c. Adjacent zig-zag passes leave the same profile (the tool is symmetric about its
+above it rises on each side, and ``Cutter.swept_side_width`` gives the lateral offset x
+where it reaches h_c. Adjacent zig-zag passes leave the same profile (the tool is symmetric about its
 axis), so the CC spacing on the surface is w = x_right(h_c) + x_left(h_c).
 
 Speed: the spacing on a plane depends only on |t_z| and |beta|, so it is solved once per
@@ -32,8 +32,6 @@ from functools import lru_cache
 import numpy as np
 from scipy.ndimage import map_coordinates
 
-from ..cutters.silhouette import side_width_exact
-
 __all__ = ["ProfileTable", "profile_table", "profile_width"]
 
 
@@ -45,12 +43,12 @@ class ProfileTable:
     sqrt(|beta|), dense near 0 where the width changes fastest.
     """
 
-    def __init__(self, R: float, r: float, h: float, n_t: int = 129, n_b: int = 129):
+    def __init__(self, cutter, h: float, n_t: int = 129, n_b: int = 129):
         self.h = h
         self.n_t, self.n_b = n_t, n_b
         tt, bb = np.meshgrid(np.linspace(0.0, 1.0, n_t) ** 2,
                              np.linspace(0.0, 1.0, n_b) ** 2 * 0.5 * np.pi, indexing="ij")
-        self.table = side_width_exact(R, r, h, tt, bb) + side_width_exact(R, r, h, tt, -bb)
+        self.table = cutter.swept_side_width(h, tt, bb) + cutter.swept_side_width(h, tt, -bb)
 
     def width(self, t_z, beta) -> np.ndarray:
         """Bilinear lookup of W at |t_z|, |beta| (arrays)."""
@@ -60,9 +58,9 @@ class ProfileTable:
 
 
 @lru_cache(maxsize=16)
-def profile_table(R: float, r: float, h: float) -> ProfileTable:
-    """The cached :class:`ProfileTable` of a cutter."""
-    return ProfileTable(R, r, h)
+def profile_table(cutter, h: float) -> ProfileTable:
+    """The cached :class:`ProfileTable` of a cutter (a ``cutters.Cutter``) at height h."""
+    return ProfileTable(cutter, h)
 
 
 def profile_width(target, t_z, b_z, kappa) -> np.ndarray:
@@ -73,8 +71,7 @@ def profile_width(target, t_z, b_z, kappa) -> np.ndarray:
     curvature across the feed (> 0 concave).
     """
     t_z, b_z, kappa = np.broadcast_arrays(*(np.asarray(x, float) for x in (t_z, b_z, kappa)))
-    cutter = target.cutter
-    table = profile_table(float(cutter.radius), float(cutter.corner_radius), float(target.h_c))
+    table = profile_table(target.cutter, float(target.h_c))
     cos_g = np.sqrt(np.maximum(1.0 - t_z * t_z, 1e-300))
     beta = np.arcsin(np.clip(b_z / cos_g, -1.0, 1.0))
     w = table.width(t_z, beta)

@@ -96,3 +96,20 @@ def test_the_centre_is_the_corner_arcs_centre_and_centre_points_read_back_as_tip
     Apt.tip, Apt.axis = tip + c.centre_height * axis, axis
     path = CLPath.from_apt(Apt)
     assert np.allclose(path.tip, tip, atol=1e-12) and path.cutter == c
+
+
+def test_a_mixed_batch_gives_each_row_its_own_cutters_profile():
+    """The simulator asks each tool's cutter for the profiles of its rows and puts them back
+    in row order: a batch mixing tools gives every row what it gives alone (to round-off: the
+    CC patterns of a batch differ from a lone row's in the last bits)."""
+    from evoplan.problems.toolpath import ToolpathProblem
+
+    sim = ToolpathProblem().simulator
+    rng = np.random.default_rng(5)
+    X = np.column_stack([[5, 0, 8, 5, 3, 6, 0], rng.uniform(20, 45, 7), rng.uniform(0, 8, 7),
+                         rng.uniform(0, 8, 7), rng.uniform(2, 8, 7)])
+    batch = sim.criteria(X)
+    for i, x in enumerate(X):
+        alone = sim.criteria(x[None, :])
+        for name in ("scallop_max", "scallop_mean", "gouge_max", "undercut_max"):
+            assert batch[name][i] == pytest.approx(alone[name][0], rel=1e-9, abs=1e-12), (name, i)
