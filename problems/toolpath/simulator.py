@@ -10,7 +10,8 @@ Criteria (each (n,), see :data:`CRITERIA`), per toolpath:
 - ``cc_count`` CC points; ``n_passes`` passes.
 - ``chord_error_mean`` / ``chord_error_max``: true curve-to-chord distance per segment
   (``chord.py``; not Fountas Eq. 3 as printed).
-- ``r_eff``: 5-axis effective radius (``cutters/effective_radius.py``; inf for a flat bottom).
+- ``r_eff``: 5-axis effective radius (``Cutter.effective_radius_lead_tilt``; inf for a flat
+  bottom).
 - ``scallop_max`` / ``scallop_mean``: material left at the middle of each gap between
   adjacent passes, from the projected cutter profile, the surface spacing of the CC points
   across the feed and the normal curvature across the feed (``scallop.py`` on the cutter's
@@ -33,7 +34,6 @@ from dataclasses import dataclass
 import numpy as np
 
 from .clpath import CLPath
-from .cutters.effective_radius import effective_radius_lead_tilt
 from .length import cutting_length, link_length, machining_time, travel_order
 from .pattern import PassGeometry, PatternBatch, cc_pattern_batch
 from .scallop import gap_heights
@@ -89,12 +89,12 @@ class ToolpathSimulator:
         self._sharp_rim = np.array([c.sharp_rim for c in tools.cutters], dtype=bool)
 
     def decode(self, X) -> dict:
-        """Columns of X (n, 5) to per-row arrays: tool index, R, r, sharp_rim (the cutter's),
+        """Columns of X (n, 5) to per-row arrays: tool index, R, sharp_rim (the cutter's),
         delta (XY step-over, mm), lead, tilt (radians), step (mm)."""
         X = np.atleast_2d(np.asarray(X, float))
         ti = np.clip(np.rint(X[:, 0]).astype(int), 0, len(self.tools) - 1)
-        R, r = self.tools.R[ti], self.tools.r[ti]
-        return dict(tool=ti, R=R, r=r, sharp_rim=self._sharp_rim[ti], delta=X[:, 1] / 100 * 2 * R,
+        R = self.tools.R[ti]
+        return dict(tool=ti, R=R, sharp_rim=self._sharp_rim[ti], delta=X[:, 1] / 100 * 2 * R,
                     lead=np.radians(X[:, 2]), tilt=np.radians(X[:, 3]), step=X[:, 4])
 
     def run(self, X):
@@ -125,7 +125,7 @@ class ToolpathSimulator:
         gouge = np.maximum(-h, 0.0)
         err = pb.chord + scallop + gouge
         crit = self._reduce(pb, ind, scallop, gouge, err)
-        crit["r_eff"] = effective_radius_lead_tilt(g["R"], g["r"], g["lead"], g["tilt"])
+        crit["r_eff"] = self._effective_radii(g["tool"], g["lead"], g["tilt"])
         crit["undercut_max"] = np.where(g["sharp_rim"], crit["scallop_max"], 0.0)
         crit["cutting_length"] = cutting_length(pb)
         crit["link_length"] = link_length(pb)
@@ -133,6 +133,14 @@ class ToolpathSimulator:
         crit["machining_time"] = machining_time(crit["path_length"], self.feed_rate)
         point = dict(normal=nrm, h=h, kappa=kappa, w=w, sigma=sigma)
         return pb, point, {name: crit[name] for name in CRITERIA}
+
+    def _effective_radii(self, ti, lead, tilt):
+        """R_eff of every row from its tool's cutter (``Cutter.effective_radius_lead_tilt``)."""
+        out = np.empty(len(ti))
+        for t in np.unique(ti):
+            rows = np.flatnonzero(ti == t)
+            out[rows] = self.tools.cutter(t).effective_radius_lead_tilt(lead[rows], tilt[rows])
+        return out
 
     def _swept_profiles(self, ti, lead, tilt):
         """Profile tables (x, z, reach) of every row (rows 2i, 2i + 1 for row i of X): each
