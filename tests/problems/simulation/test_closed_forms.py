@@ -142,3 +142,28 @@ def test_metrics_of_a_plane_cut():
     assert m["uncut_fraction"] == pytest.approx(uncut.mean(), abs=2 * H / 30)
     assert m["scallop_max_mm"] == 0.5  # uncut cells keep the allowance
 
+
+
+def test_vertical_rays_measure_the_same_cusp_stretched_by_the_slope():
+    # a plane rising along y (z = 0.5 y), ball passes along x spaced s on the surface with the
+    # axis on the normal: the cusp along the normal is the flat closed form, and measured
+    # vertically it is longer by 1 / n_z (the cut surface is parallel to the design surface)
+    R, s, slope = 4.0, 2.5, 0.5
+    nz = 1.0 / np.sqrt(1.0 + slope * slope)
+    n = np.array([0.0, -slope, 1.0]) * nz
+    g = analytic_grid(lambda x, y: slope * y + 0 * x, lambda x, y: (0 * x, slope + 0 * x),
+                      (0, 40, 0, 30), H)
+    ys = 5.0 + s * nz * np.arange(8)  # XY spacing of the passes: s on the surface
+
+    def tip(y):  # ball centre R along the normal from the CC point, the tip R below it on the axis
+        c = np.array([0.0, y, slope * y]) + R * n
+        return (c - R * n)[1:]
+
+    tips, axes, sec = _passes(ys, tip, lambda y: tuple(n))
+    path = CLPath(tips, axes, 2 * R, R, section=sec)
+    normal = sweep_path(path, g).values[:, 100:700]
+    vertical = sweep_path(path, g, vertical=True).values[:, 100:700]
+    band = (g.ys[:, None] > ys[1]) & (g.ys[:, None] < ys[-2]) & np.ones_like(normal, bool)
+    want = R - np.sqrt(R * R - s * s / 4)
+    assert normal[band].max() == pytest.approx(want, rel=0.02)
+    assert vertical[band].max() == pytest.approx(want / nz, rel=0.02)
