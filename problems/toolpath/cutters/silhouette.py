@@ -84,8 +84,8 @@ def profile_tables(R, r, lead, tilt, m_fine: int = 192, m_uniform: int = 64,
     # 1. samples by outward normal (support points), both sides
     r_eff = effective_radius_lead_tilt(R, r, lead, tilt)
     sig = np.linspace(0.0, 1.0, m_fine)[None, :] * R[:, None]
-    with np.errstate(divide="ignore", invalid="ignore"):
-        ratio = sig / r_eff[:, None]  # 0/0 (rim-only, sigma 0) -> nan -> 0
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        ratio = sig / r_eff[:, None]  # 0/0 (rim-only, sigma 0) -> nan -> 0; tiny R_eff -> inf -> 1
     p_fine = np.arcsin(np.minimum(np.where(np.isnan(ratio), 0.0, ratio), 1.0))
     p_uni = np.broadcast_to(np.linspace(0.0, np.pi / 2, m_uniform), (n, m_uniform))
     ph = np.concatenate([p_fine, p_uni, -p_fine, -p_uni], axis=1)
