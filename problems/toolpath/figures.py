@@ -8,11 +8,14 @@ import numpy as np
 
 
 def cc_pattern_png(surface, points: np.ndarray, pass_index: np.ndarray, title: str = "",
-                   color: np.ndarray | None = None, color_label: str = "") -> bytes:
+                   color: np.ndarray | None = None, color_label: str = "",
+                   categories: int | None = None) -> bytes:
     """PNG bytes: the surface (3D wireframe) with the CC points, and a plan view (XY).
 
     ``points: (m, 3)`` CC points in machining order, ``pass_index: (m,)``; ``color: (m,)``
-    an optional per-point value (e.g. the chord error) for the plan view.
+    an optional per-point value (e.g. the chord error) for the plan view; with
+    ``categories = n`` it holds labels 0 .. n - 1 (e.g. zones), drawn in n distinct colours
+    (the zone map's).
     """
     import matplotlib
 
@@ -34,9 +37,13 @@ def cc_pattern_png(surface, points: np.ndarray, pass_index: np.ndarray, title: s
     ax2 = fig.add_subplot(1, 2, 2)
     ax2.contour(S[..., 0], S[..., 1], S[..., 2], levels=12, colors="0.8", linewidths=0.5)
     ax2.plot(points[:, 0], points[:, 1], lw=0.5, color="0.5")
-    sc = ax2.scatter(points[:, 0], points[:, 1], s=5, c=color if color is not None else "tab:red", cmap="viridis")
+    scale = {"cmap": "viridis"} if not categories else \
+        {"cmap": plt.get_cmap("tab20", categories), "vmin": -0.5, "vmax": categories - 0.5}
+    sc = ax2.scatter(points[:, 0], points[:, 1], s=5, c=color if color is not None else "tab:red", **scale)
     if color is not None:
-        fig.colorbar(sc, ax=ax2, label=color_label)
+        bar = fig.colorbar(sc, ax=ax2, label=color_label)
+        if categories:
+            bar.set_ticks(range(categories))
     ax2.set_aspect("equal")
     ax2.set_xlabel("X (mm)"), ax2.set_ylabel("Y (mm)")
     ax2.set_title("plan view")

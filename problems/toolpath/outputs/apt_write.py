@@ -3,7 +3,8 @@
 Statements written, in order: ``PARTNO``, ``$$`` comments, ``$$ TOOLPOINT TIP`` (or
 ``CENTRE``), ``UNITS/MM``, ``LOADTL/n``, ``CUTTER/D,r``, ``SPINDL/n,RPM,CLW``, ``COOLNT/ON``,
 ``MULTAX/ON`` then ``GOTO/x,y,z,i,j,k`` (tool point and unit tool axis), ``FEDRAT/v,MMPM``,
-``RAPID``, ``$$ PASS k`` at the start of each pass, ``COOLNT/OFF``, ``SPINDL/OFF``, ``FINI``.
+``RAPID``, ``$$ PASS k`` at the start of each pass (or the section's name, e.g.
+``$$ ZONE z PASS k``), ``COOLNT/OFF``, ``SPINDL/OFF``, ``FINI``.
 
 Tool point convention: APT itself has no statement saying which point of the cutter a
 ``GOTO`` gives. evoplan states it in a comment line ``$$ TOOLPOINT TIP`` (the point on the tool
@@ -13,8 +14,9 @@ a file without it is taken as TIP.
 
 Motion: a rapid to ``clearance`` mm above the first point along its axis, the plunge to the
 first point at ``plunge_feed``, the passes at ``feed_rate``, a rapid retract of ``clearance``
-above the last point. Every line is at most 72 columns; a longer statement is continued with
-``$`` on the next line.
+above the last point (a path in separate sections, ``Toolpath.from_sections``: a retract and
+an approach between sections). Every line is at most 72 columns; a longer statement is
+continued with ``$`` on the next line.
 """
 
 from __future__ import annotations
@@ -77,7 +79,7 @@ def footer() -> list[str]:
 def apt_toolpath(tp: Toolpath, *, part: str = "EVOPLAN", coolant: str = "ON", tip_is_centre: bool = False) -> str:
     """The CL file of one operation (``toolpath.Toolpath``): header, the moves with ``RAPID``
     before each rapid and a ``FEDRAT`` wherever the feed changes (plunge or cutting), a
-    ``$$ <label> k`` comment where each section starts, footer."""
+    ``$$ <label> k`` comment (or the section's name) where each section starts, footer."""
     multax = tp.multi_axis
     lines = header(diameter=tp.tool.diameter, corner_radius=tp.tool.corner_radius, part=part,
                    comments=tp.comments, tool_number=tp.tool.number, spindle_rpm=tp.tool.spindle_rpm,
@@ -85,7 +87,7 @@ def apt_toolpath(tp: Toolpath, *, part: str = "EVOPLAN", coolant: str = "ON", ti
     feed, section = None, -1
     for n in range(len(tp.tip)):
         if tp.section[n] != section and tp.section[n] >= 0:
-            lines.append(f"$$ {tp.section_label} {int(tp.section[n])}")
+            lines.append(f"$$ {tp.section_name(tp.section[n])}")
         section = tp.section[n]
         if tp.rapid[n]:
             lines.append("RAPID")

@@ -3,7 +3,8 @@
 Points are in machining order; the flags say how the tool moves INTO each point:
 ``rapid`` (positioning, no cut), ``plunge`` (cutting at the plunge feed), else cutting at the
 operation's feed. ``section`` is the pass or layer a point belongs to (-1 for approach and
-retract moves).
+retract moves); ``section_names`` may name a section (e.g. ``ZONE 2 PASS 7``) for the comment
+that opens it.
 """
 
 from __future__ import annotations
@@ -49,6 +50,7 @@ class Toolpath:
     plunge_feed: float
     section_label: str = "PASS"
     comments: list[str] = field(default_factory=list)
+    section_names: dict[int, str] = field(default_factory=dict)
 
     def __post_init__(self):
         self.tip = np.asarray(self.tip, float).reshape(-1, 3)
@@ -59,6 +61,10 @@ class Toolpath:
         self.section = np.asarray(self.section, int).reshape(m)
         if self.axis.shape != self.tip.shape or m == 0:
             raise ValueError(f"{self.name}: tip and axis must be (m, 3) with m > 0")
+
+    def section_name(self, k: int) -> str:
+        """The comment text that opens section ``k``: its name, else ``<section_label> k``."""
+        return self.section_names.get(int(k), f"{self.section_label} {int(k)}")
 
     @property
     def multi_axis(self) -> bool:
@@ -99,6 +105,38 @@ class Toolpath:
         plunge = np.r_[False, True, np.zeros(m, bool)]
         return cls(name, tool, pts, ax, rapid, plunge, np.r_[-1, pass_index, -1], feed,
                    0.5 * feed if plunge_feed is None else plunge_feed, comments=list(comments or []))
+
+    @classmethod
+    def from_sections(cls, name: str, tool: Tool, tip, axis, section, *, feed: float,
+                      plunge_feed: float | None = None, clearance: float = 10.0, gap: float = 1.0,
+                      comments=None, section_names=None) -> "Toolpath":
+        """A finishing toolpath cut in separate sections (e.g. the stretches of a zoned plan):
+        every run of equal ``section`` (m,) is entered by a rapid to the safe height (the
+        highest point plus ``clearance``) above its first point, a rapid down to ``gap`` above
+        it along its axis and a plunge, is cut point to point, and is left by a rapid retract
+        straight up to the safe height. Section k keeps its number (``section_names`` may
+        name it for the comments)."""
+        tip, axis, section = np.asarray(tip, float), np.asarray(axis, float), np.asarray(section, int)
+        if tip.ndim != 2 or tip.shape[1] != 3 or axis.shape != tip.shape or len(section) != len(tip):
+            raise ValueError("tip and axis must be (m, 3) and section (m,)")
+        if len(tip) == 0:
+            raise ValueError("an empty toolpath has no NC program")
+        safe = tip[:, 2].max() + clearance
+        starts = np.flatnonzero(np.r_[True, section[1:] != section[:-1]])
+        pieces = []  # (points, axes, rapid, plunge, section) per block of moves
+        for a, b in zip(starts, np.r_[starts[1:], len(tip)]):
+            first, last = tip[a], tip[b - 1]
+            above = [[first[0], first[1], safe], first + gap * axis[a]]
+            pieces.append((above, axis[[a, a]], [True, True], [False, False], [-1, -1]))
+            plunge = np.zeros(b - a, bool)
+            plunge[0] = True
+            pieces.append((tip[a:b], axis[a:b], np.zeros(b - a, bool), plunge, section[a:b]))
+            pieces.append(([[last[0], last[1], safe]], axis[b - 1:b], [True], [False], [-1]))
+        pts, ax, rapid, plunge, sec = (np.concatenate([np.asarray(p[i]) for p in pieces])
+                                       for i in range(5))
+        return cls(name, tool, pts, ax, rapid, plunge, sec, feed,
+                   0.5 * feed if plunge_feed is None else plunge_feed,
+                   comments=list(comments or []), section_names=dict(section_names or {}))
 
 
 def drop_collinear(points: np.ndarray, tol: float) -> np.ndarray:

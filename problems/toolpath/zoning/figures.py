@@ -8,7 +8,7 @@ import numpy as np
 
 from .samples import SurfaceSamples
 
-__all__ = ["pass_segments", "zone_map_png"]
+__all__ = ["border_segments", "pass_segments", "zone_map_png"]
 
 
 def pass_segments(samples: SurfaceSamples, cell_zone: np.ndarray, zone: int, passes) -> list:
@@ -35,8 +35,20 @@ def pass_segments(samples: SurfaceSamples, cell_zone: np.ndarray, zone: int, pas
     return lines
 
 
+def border_segments(labels: np.ndarray, corners: np.ndarray) -> np.ndarray:
+    """(b, 2, 2) XY segments of the zone borders: the mesh cell edges shared by two cells of
+    different zones. ``corners: (n + 1, m + 1, 3)`` the surface at the cells' corners."""
+    xy = corners[..., :2]
+    i, j = np.nonzero(labels[1:, :] != labels[:-1, :])  # cells (i, j) | (i + 1, j): edge u = i + 1
+    across_u = np.stack([xy[i + 1, j], xy[i + 1, j + 1]], axis=1)
+    i, j = np.nonzero(labels[:, 1:] != labels[:, :-1])  # cells (i, j) | (i, j + 1): edge v = j + 1
+    across_v = np.stack([xy[i, j + 1], xy[i + 1, j + 1]], axis=1)
+    return np.concatenate([across_u, across_v])
+
+
 def zone_map_png(surface, plan, samples: SurfaceSamples, title: str = "") -> bytes:
-    """PNG bytes: the zones in plan view (XY) coloured by zone, with their passes."""
+    """PNG bytes: the zones in plan view (XY) coloured by zone, with their passes and the
+    zone borders."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -52,6 +64,7 @@ def zone_map_png(surface, plan, samples: SurfaceSamples, title: str = "") -> byt
     cmap = plt.get_cmap("tab20", max(len(plan.zones), 1))
     ax.pcolormesh(corners[..., 0], corners[..., 1], labels, cmap=cmap, alpha=0.45,
                   vmin=-0.5, vmax=len(plan.zones) - 0.5, shading="flat")
+    ax.add_collection(LineCollection(border_segments(labels, corners), colors="k", linewidths=1.2))
     for z in plan.zones:
         segs = pass_segments(samples, cell_zone, z.zone, z.passes)
         ax.add_collection(LineCollection(segs, colors=[cmap(z.zone)], linewidths=0.7))

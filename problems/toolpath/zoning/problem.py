@@ -126,6 +126,39 @@ class ZonedToolpathProblem(Problem):
         return (zone_cl_path(self.surface, plan, self.tool_db.cutter(index), step=step,
                              placement=placement), plan.labels)
 
+    def artifacts(self, x) -> dict[str, bytes]:
+        """Result files of one plan ``x: (2,)`` (a phenotype row: the tool as its index, the
+        zoning gene): the zone map with each zone's passes and the borders, the CC points on
+        the surface coloured by zone, and the APT CL program of :meth:`cl_path` (what
+        ``evoplan simulate --run`` cuts) with a ``$$ ZONE z PASS k`` comment opening each
+        section and a retract and approach between sections."""
+        import textwrap
+
+        from ..figures import cc_pattern_png
+        from ..outputs.apt_write import apt_toolpath
+        from ..outputs.toolpath import Tool, Toolpath
+        from .figures import zone_map_png
+
+        x = np.asarray(x, float).reshape(-1)
+        tool = self.tool_db.tools[int(round(x[0]))]
+        value = self._decode(x[1])
+        plan = self.zoning_plan(int(round(x[0])), value)
+        path, _ = self.cl_path({"tool": tool.id, self.gene: value})
+        settings = (f"tool {tool.id} ({tool.label()}), {self.gene} {value:g}, {self.method}: "
+                    f"{len(plan.zones)} zones, h_c {self.h_c:g} mm, Eq. 4 total "
+                    f"{plan.total_length:.1f} mm")
+        starts = np.flatnonzero(np.r_[True, np.diff(path.section) != 0])
+        names = {int(path.section[i]): f"ZONE {path.zone[i]} PASS {path.pass_index[i]}"
+                 for i in starts}
+        tp = Toolpath.from_sections("finish", Tool(tool.id, tool.diameter, tool.corner_radius),
+                                    path.tip, path.axis, path.section, feed=path.feed_rate,
+                                    comments=textwrap.wrap(settings, 66), section_names=names)
+        return {"zone_map.png": zone_map_png(self.surface, plan, self.samples, title=settings),
+                "cc_pattern.png": cc_pattern_png(self.surface, path.info["cc"], path.pass_index,
+                                                 title=settings, color=path.zone,
+                                                 color_label="zone", categories=len(plan.zones)),
+                "toolpath.apt": apt_toolpath(tp, part="EVOPLAN ZONED TOOLPATH").encode()}
+
     def plan(self, tool_index: int, value: float) -> dict[str, float]:
         """Raw numbers of one decoded gene pair (memoized)."""
         value = self._decode(value)
