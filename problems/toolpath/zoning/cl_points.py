@@ -21,6 +21,13 @@ cells of the (u, v) mesh (``plan.labels``); each stretch is one section of the t
   surface at the CC point (``Cutter.cc_to_tip``; what the analytic model assumes, not
   gouge-free); ``"drop"``: the drop-cutter tip at the CC point's XY (``Cutter.drop_cutter``:
   gouge-free).
+- **Chord tolerance** (``chord.py``). The machine joins consecutive CL points of a section
+  by straight moves; where the placement's CL curve bends (the drop-cutter tip falling
+  away near a part edge or a crest) a move leaves it, and below a convex stretch it cuts
+  into the part between two gouge-free points (the cut simulation measured up to 0.055 mm
+  on Choi's surface with a 1 mm step). Moves further than ``tolerance`` from the curve
+  (checked at their quarter and mid points) are split at their mid-point, all at once, for
+  at most ``rounds`` rounds; ``step`` stays the largest spacing.
 
 Difference from ``passes.py``: there a pass is credited with every bin of t where its band
 (the samples nearer to its plane than to the others) holds zone material; here a pass runs
@@ -35,6 +42,7 @@ import numpy as np
 from ..clpath import CLPath
 from ..cutters.surface_grid import surface_grid, uv_at_xy
 from ..surface import unit_normal
+from .chord import refine_chords
 
 __all__ = ["PLACEMENTS", "zone_cl_path"]
 
@@ -93,7 +101,8 @@ def _stretches(member: _Zone, planes, f, c, t_lo, t_hi, resolution):
 
 
 def zone_cl_path(surface, plan, cutter, step: float = 1.0, placement: str = "drop",
-                 resolution: float | None = None) -> CLPath:
+                 resolution: float | None = None, tolerance: float | None = 0.01,
+                 rounds: int = 8) -> CLPath:
     """CL points of ``plan`` (a ``ZoningPlan``) for the vertical ``cutter`` (see module doc).
 
     ``step``: the largest distance between CC points along the feed coordinate (mm);
@@ -101,13 +110,18 @@ def zone_cl_path(surface, plan, cutter, step: float = 1.0, placement: str = "dro
     planes (default min(step, grid spacing) / 2). ``info`` holds the CC points ``cc``,
     their ``uv`` and ``normal``, the ``placement``, ``step``, and per zone the section
     length cut (``section_length``, on the surface) and the plan's claimed length
-    (``claimed_length``).
+    (``claimed_length``). ``tolerance``: the chord tolerance of the CL moves (mm; None: no
+    refinement), ``rounds`` its round limit; ``info`` reports ``chord_tolerance``,
+    ``chord_added`` (points inserted), ``chord_rounds`` and ``chord_deviation`` (the largest
+    remaining deviation at the check points).
     """
     if placement not in PLACEMENTS:
         raise ValueError(f"placement: expected one of {', '.join(PLACEMENTS)}, got {placement!r}")
     step = float(step)
     if not (np.isfinite(step) and step > 0):
         raise ValueError(f"step: must be a number > 0 mm, got {step!r}")
+    if tolerance is not None and not (np.isfinite(tolerance) and tolerance > 0):
+        raise ValueError(f"tolerance: must be a number > 0 mm or None, got {tolerance!r}")
     grid = surface_grid(surface, 0.25)
     resolution = 0.5 * min(step, grid.spacing) if resolution is None else float(resolution)
     n, m = plan.labels.shape
@@ -153,14 +167,20 @@ def zone_cl_path(surface, plan, cutter, step: float = 1.0, placement: str = "dro
     uv = np.concatenate(cc_uv)
     jet = surface.jet(uv[:, 0], uv[:, 1], order=1)
     cc, normal = jet.p, unit_normal(jet, surface.normal_sign)
-    section = np.concatenate(sec)
-    _, section = np.unique(section, return_inverse=True)  # consecutive ids from 0
-    zone = np.concatenate(zon)
+    _, section = np.unique(np.concatenate(sec), return_inverse=True)  # consecutive ids
+    pts = {"uv": uv, "cc": cc, "normal": normal, "section": section,
+           "pass_index": np.concatenate(pas), "zone": np.concatenate(zon),
+           "tip": PLACEMENTS[placement](cutter, surface, cc, normal)}
+    chord = {"chord_tolerance": None}
+    if tolerance is not None:
+        pts, chord = refine_chords(surface, cutter, PLACEMENTS[placement], pts, tolerance,
+                                   rounds)
+    cc, section, zone = pts["cc"], pts["section"], pts["zone"]
     same = section[1:] == section[:-1]
     seg = np.linalg.norm(np.diff(cc, axis=0), axis=1) * same
     cut = [float(seg[zone[1:] == zp.zone].sum()) for zp in plan.zones]
-    tip = PLACEMENTS[placement](cutter, surface, cc, normal)
-    info = {"placement": placement, "step": step, "cc": cc, "uv": uv, "normal": normal,
-            "section_length": cut, "claimed_length": claimed}
-    return CLPath(tip, np.array([0.0, 0.0, 1.0]), cutter.diameter, cutter.corner_radius,
-                  section=section, pass_index=np.concatenate(pas), zone=zone, info=info)
+    info = {"placement": placement, "step": step, "cc": cc, "uv": pts["uv"],
+            "normal": pts["normal"], "section_length": cut, "claimed_length": claimed, **chord}
+    return CLPath(pts["tip"], np.array([0.0, 0.0, 1.0]), cutter.diameter,
+                  cutter.corner_radius, section=section, pass_index=pts["pass_index"],
+                  zone=zone, info=info)

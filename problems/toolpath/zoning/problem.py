@@ -113,9 +113,11 @@ class ZonedToolpathProblem(Problem):
         """The tolerance band of a simulated cut's deviation map: h_c (mm)."""
         return self.h_c
 
-    def cl_path(self, params, step: float = 1.0, placement: str = "drop"):
+    def cl_path(self, params, step: float = 1.0, placement: str = "drop",
+                tolerance: float | None = 0.01):
         """(CLPath, mesh labels) of one plan given by name (``tool`` = the tool id, and
-        ``zones`` or ``k_lz``): every zone's passes as CL points of the vertical cutter."""
+        ``zones`` or ``k_lz``): every zone's passes as CL points of the vertical cutter,
+        moves within ``tolerance`` mm of the CL curve (``zone_cl_path``)."""
         from .cl_points import zone_cl_path
 
         missing = [k for k in ("tool", self.gene) if k not in params]
@@ -124,7 +126,7 @@ class ZonedToolpathProblem(Problem):
         index = self.tool_db.index_of(params["tool"])
         plan = self.zoning_plan(index, number(params[self.gene], f"params.{self.gene}"))
         return (zone_cl_path(self.surface, plan, self.tool_db.cutter(index), step=step,
-                             placement=placement), plan.labels)
+                             placement=placement, tolerance=tolerance), plan.labels)
 
     def artifacts(self, x) -> dict[str, bytes]:
         """Result files of one plan ``x: (2,)`` (a phenotype row: the tool as its index, the
