@@ -78,7 +78,7 @@ def _problem_and_plan(args):
         raise ConfigError(f"{config}: problem: {prepared.config.problem.name!r} makes no toolpath "
                           "to simulate (use a toolpath problem)")
     if args.apt:
-        from ..problems.toolpath.outputs.apt_read import AptError, read_apt
+        from ..problems.toolpath.export.apt_read import AptError, read_apt
         from ..problems.toolpath.clpath import CLPath
 
         try:

@@ -81,7 +81,7 @@ class CLPath:
 
     @classmethod
     def from_apt(cls, apt) -> "CLPath":
-        """The path of an APT CL file read by ``outputs.apt_read.read_apt``: a RAPID move
+        """The path of an APT CL file read by ``export.apt_read.read_apt``: a RAPID move
         starts a new section (it does not cut); a file whose points are the tool centre
         (``$$ TOOLPOINT CENTRE``) is moved down the axis by the corner radius to the tip."""
         tip = np.asarray(apt.tip, float)

@@ -223,7 +223,7 @@ class ToolpathProblem(Problem):
     def artifacts(self, x) -> dict[str, bytes]:
         """Result files of one parameter set ``x: (5,)`` (a phenotype row, tool as its index):
         the CC pattern on the surface (Fountas Fig. 2 analog) and the APT CL program."""
-        from .outputs.apt_write import apt_program
+        from .export.apt_write import apt_program
         from .figures import cc_pattern_png
 
         x = self.check(x)[0]

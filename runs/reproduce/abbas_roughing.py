@@ -19,7 +19,7 @@ import time
 from pathlib import Path
 
 from evoplan.commands.machine import load
-from evoplan.problems.toolpath.outputs.posts import POSTS, Machine
+from evoplan.problems.toolpath.export.posts import POSTS, Machine
 from evoplan.problems.toolpath.roughing.operation_set import _kinematics, _tool
 from evoplan.problems.toolpath.roughing.operations import block_stock, roughing
 from evoplan.problems.toolpath.spec import parse_surface

@@ -11,11 +11,11 @@ import json
 
 import numpy as np
 
-from ..outputs.apt_write import apt_toolpath
-from ..outputs.exchange import surface_dxf, surface_stl, toolpaths_dxf
-from ..outputs.kinematics import Kinematics, ReachError, Rotary
-from ..outputs.posts import POSTS, Machine, PostError
-from ..outputs.toolpath import Tool
+from ..export.apt_write import apt_toolpath
+from ..export.exchange import surface_dxf, surface_stl, toolpaths_dxf
+from ..export.kinematics import Kinematics, ReachError, Rotary
+from ..export.posts import POSTS, Machine, PostError
+from ..export.toolpath import Tool
 from ..spec import parse_surface
 from .figures import layers_png
 from .operations import ball_on_offset, block_stock, finish_from_plan, roughing

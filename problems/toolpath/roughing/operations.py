@@ -16,7 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..outputs.toolpath import Tool, Toolpath
+from ..export.toolpath import Tool, Toolpath
 from .layers import Grid, floor_field, height_field, layer_count, morph_layers, z_levels
 from .offset import normal_offset
 from .zigzag import morph_path, zlevel_path

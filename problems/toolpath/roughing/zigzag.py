@@ -25,7 +25,7 @@ import math
 
 import numpy as np
 
-from ..outputs.toolpath import Tool, Toolpath, drop_collinear
+from ..export.toolpath import Tool, Toolpath, drop_collinear
 from .layers import Grid
 
 

@@ -18,7 +18,7 @@ import math
 import numba
 import numpy as np
 
-from ..outputs.toolpath import Toolpath
+from ..export.toolpath import Toolpath
 from .layers import Grid
 
 

@@ -137,8 +137,8 @@ class ZonedToolpathProblem(Problem):
         import textwrap
 
         from ..figures import cc_pattern_png
-        from ..outputs.apt_write import apt_toolpath
-        from ..outputs.toolpath import Tool, Toolpath
+        from ..export.apt_write import apt_toolpath
+        from ..export.toolpath import Tool, Toolpath
         from .figures import zone_map_png
 
         x = np.asarray(x, float).reshape(-1)

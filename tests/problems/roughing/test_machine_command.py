@@ -11,9 +11,9 @@ import pytest
 from stl import mesh as stl_mesh
 
 from evoplan.cli import main as cli_main
-from evoplan.problems.toolpath.outputs.apt_read import read_apt
-from evoplan.problems.toolpath.outputs.kinematics import Kinematics, Rotary
-from evoplan.problems.toolpath.outputs.posts import POSTS, Machine
+from evoplan.problems.toolpath.export.apt_read import read_apt
+from evoplan.problems.toolpath.export.kinematics import Kinematics, Rotary
+from evoplan.problems.toolpath.export.posts import POSTS, Machine
 
 SMALL = """name: small
 surface:

@@ -5,8 +5,8 @@ import numpy as np
 import pytest
 
 from evoplan.problems.toolpath.cutters import BallEndCutter, FlatEndCutter, ToroidalCutter
-from evoplan.problems.toolpath.outputs.apt_write import header
-from evoplan.problems.toolpath.outputs.toolpath import Tool
+from evoplan.problems.toolpath.export.apt_write import header
+from evoplan.problems.toolpath.export.toolpath import Tool
 from evoplan.problems.toolpath.tools import parse_tools
 
 
@@ -87,7 +87,7 @@ def test_the_centre_is_the_corner_arcs_centre_and_centre_points_read_back_as_tip
     axis = rng.normal(size=(5, 3))
     axis /= np.linalg.norm(axis, axis=1, keepdims=True)
 
-    class Apt:  # what outputs.apt_read.read_apt gives, reduced to what CLPath reads
+    class Apt:  # what export.apt_read.read_apt gives, reduced to what CLPath reads
         diameter, corner_radius, tip_is_centre = d, r, True
         rapid = np.zeros(5, bool)
         feed = np.full(5, 800.0)

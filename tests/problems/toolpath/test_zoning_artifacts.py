@@ -10,9 +10,9 @@ import pytest
 
 from evoplan.cli import main
 from evoplan.problems.toolpath.clpath import CLPath
-from evoplan.problems.toolpath.outputs.apt_read import read_apt
-from evoplan.problems.toolpath.outputs.apt_write import apt_toolpath
-from evoplan.problems.toolpath.outputs.toolpath import Tool, Toolpath
+from evoplan.problems.toolpath.export.apt_read import read_apt
+from evoplan.problems.toolpath.export.apt_write import apt_toolpath
+from evoplan.problems.toolpath.export.toolpath import Tool, Toolpath
 from evoplan.problems.toolpath.zoning.figures import border_segments
 from evoplan.runner import prepare_file
 from tests.test_cli import evoplan, write

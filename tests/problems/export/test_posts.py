@@ -3,9 +3,9 @@
 import numpy as np
 import pytest
 
-from evoplan.problems.toolpath.outputs.kinematics import Kinematics, ReachError, Rotary
-from evoplan.problems.toolpath.outputs.posts import POSTS, Machine, PostError
-from evoplan.problems.toolpath.outputs.toolpath import Tool, Toolpath
+from evoplan.problems.toolpath.export.kinematics import Kinematics, ReachError, Rotary
+from evoplan.problems.toolpath.export.posts import POSTS, Machine, PostError
+from evoplan.problems.toolpath.export.toolpath import Tool, Toolpath
 
 LAYOUTS = [("table_table", "x"), ("table_table", "y"), ("head_table", "x"), ("head_table", "y")]
 

@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from evoplan.problems.toolpath.outputs.apt_read import AptError, read_apt
-from evoplan.problems.toolpath.outputs.apt_write import apt_program
+from evoplan.problems.toolpath.export.apt_read import AptError, read_apt
+from evoplan.problems.toolpath.export.apt_write import apt_program
 
 
 def _path(rng, m=40):
