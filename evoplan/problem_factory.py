@@ -26,7 +26,7 @@ from .space import Categorical, Integer, Real, Space
 PROBLEMS: dict[str, str] = {
     "kubota": "evoplan.problems.benchmarks:Kubota",
     "toolpath": "evoplan.problems.toolpath:ToolpathProblem",
-    "toolpath_zoning": "evoplan.problems.toolpath.zoning.problem:ZonedToolpathProblem",
+    "toolpath_zoning": "evoplan.problems.toolpath.plan.zoning.problem:ZonedToolpathProblem",
 }
 
 

@@ -2,7 +2,7 @@
 
 The file names the surface, the cutter (R, r), the scallop limit h_c, the zone-change
 penalty Delta L, the parametric mesh, the zoning method (any name of the registry in
-``problems/toolpath/zoning/methods/``: single, kmeans, amas) with a settings group per method,
+``problems/toolpath/plan/zoning/methods/``: single, kmeans, amas) with a settings group per method,
 and ``merge`` (the post-process of ``zoning/merge.py``); see ``runs/choi_zoning.yaml``. The
 config model is built from the registry, so this command holds no method logic. Writes
 ``summary.json`` (method, zones, per-zone direction and length, total length of Djebali
@@ -27,8 +27,8 @@ from ..config import SafeName, _Strict, format_validation_error, read_yaml
 from ..engine import write_atomic
 from ..errors import ConfigError, EvoplanError
 from ..limits import mesh_bytes, require
-from ..problems.toolpath.zoning.merge import MergeSettings
-from ..problems.toolpath.zoning.methods import REGISTRY
+from ..problems.toolpath.plan.zoning.merge import MergeSettings
+from ..problems.toolpath.plan.zoning.methods import REGISTRY
 
 
 class CutterConfig(_Strict):
@@ -93,10 +93,10 @@ def load(path: str, method: str | None = None) -> ZoneBase:
 
 def build_plan(cfg: ZoneBase, base_dir: Path):
     """(surface, samples, plan) of a validated config; ValueError for bad values."""
-    from ..problems.toolpath.spec import parse_surface
-    from ..problems.toolpath.zoning.plan import plan_zones
-    from ..problems.toolpath.zoning.samples import sample_surface
-    from ..problems.toolpath.zoning.stepover import ScallopTarget
+    from ..problems.toolpath.geometry.spec import parse_surface
+    from ..problems.toolpath.plan.zoning.plan import plan_zones
+    from ..problems.toolpath.plan.zoning.samples import sample_surface
+    from ..problems.toolpath.plan.zoning.stepover import ScallopTarget
 
     surface = parse_surface(cfg.surface, "surface", base_dir=base_dir)
     target = ScallopTarget.build(cfg.cutter.R, cfg.cutter.r, cfg.h_c, key="cutter")
@@ -146,7 +146,7 @@ def zones_csv(features, labels) -> bytes:
 
 
 def main(args: argparse.Namespace) -> int:
-    from ..problems.toolpath.zoning.figures import zone_map_png
+    from ..problems.toolpath.plan.zoning.figures import zone_map_png
 
     cfg = load(args.config, args.method)
     out = Path(args.out or Path("results") / f"{cfg.name}-{time.strftime('%Y%m%d-%H%M%S')}")

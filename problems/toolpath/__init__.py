@@ -1,23 +1,25 @@
-"""Finish-machining toolpath simulator for free-form surfaces (Fountas et al.; Djebali et al.).
+"""Finish-machining toolpaths of free-form surfaces (Fountas et al.; Djebali et al.; Herraz et al.).
 
-Modules, one idea each:
+The folders follow the pipeline, each depending only on the ones before it:
 
-- ``surface``, ``bezier``, ``bspline``: parametric surfaces, batched differential geometry.
-- ``cutters``: the cutter shapes and their geometry (silhouette, R_eff, drop-cutter, APT);
+- ``geometry/``: the part (parametric surfaces batched over (u, v), surfaces from plain
+  data, graph checks, the chord deviation of a straight move).
+- ``cutters/``: flat, ball and toroidal cutters (one abstraction, one registry);
   ``tools``: the tool database.
-- ``pattern``: zig-zag parallel planes -> CC pattern (batched, with chord refinement).
-- ``chord``, ``scallop``, ``length``: the criteria.
-- ``simulator``: parameter sets -> CC patterns and every raw criterion.
-- ``objective``: Fountas Eq. 9 with fixed normalization bounds.
-- ``spec``: surfaces from plain data; ``problem``: the pymoo ``ToolpathProblem``.
+- ``plan/``: decisions -> zones -> passes -> CC points -> orientation -> CL points
+  (``PlanBatch``); ``zoning/`` holds the zoning methods.
+- ``criteria/``: what a plan is worth (analytic, simulated) and Fountas Eq. 9.
+- ``simulation/``: the cut simulation that referees the analytic criteria.
+- ``export/``: APT, NC post-processors, DXF and STL; ``roughing/``: Abbas' layers.
+- ``problem``: the pymoo ``ToolpathProblem``; ``simulator``: the analytic evaluator.
 """
 
-from .bezier import BezierSurface, choi_surface
-from .bspline import BSplineSurface
+from .geometry.bezier import BezierSurface, choi_surface
+from .geometry.bspline import BSplineSurface
 from .problem import DEFAULT_RANGES, PARAM_NAMES, ToolpathProblem
 from .simulator import CRITERIA, CCPattern, ToolpathSimulator
-from .spec import parse_surface
-from .surface import PolynomialSurface, Surface, fountas_surface
+from .geometry.spec import parse_surface
+from .geometry.surface import PolynomialSurface, Surface, fountas_surface
 from .tools import DEFAULT_TOOLS, Tool, ToolDatabase, parse_tools
 
 __all__ = [

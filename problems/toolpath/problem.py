@@ -28,12 +28,12 @@ from pymoo.core.problem import Problem
 from pymoo.core.variable import Choice, Real
 
 from .checks import interval, number
-from .objective import (
+from .criteria.objective import (
     OBJECTIVE_CRITERIA, bounds_from_sample, normalization_design, normalize, parse_bounds,
     parse_weights, weighted_sum,
 )
 from .simulator import ToolpathSimulator
-from .spec import parse_surface
+from .geometry.spec import parse_surface
 from .tools import parse_tools
 
 __all__ = ["ToolpathProblem", "PARAM_NAMES", "DEFAULT_RANGES"]
@@ -74,7 +74,7 @@ class ToolpathProblem(Problem):
     ``normalization_samples`` / ``seed`` for the fixed normalization design, ``objectives``
     a list of criteria for a multi-objective F, ``base_dir`` for relative pole files,
     ``criteria`` ``analytic`` (default) or ``simulated`` (scallop, gouge and machining error
-    measured by the cut simulation, ``simulation/criteria.py``, with ``simulation``
+    measured by the cut simulation, ``criteria/simulated.py``, with ``simulation``
     settings {grid_mm, rays, allowance}; the normalization design is simulated too).
     Bad input raises a one-line ValueError starting with the key path.
     """
@@ -106,7 +106,7 @@ class ToolpathProblem(Problem):
             raise ValueError(f"criteria: expected analytic or simulated, got {criteria!r}")
         self.simulated = None
         if criteria == "simulated":
-            from .simulation.criteria import SimulatedCriteria
+            from .criteria.simulated import SimulatedCriteria
 
             self.simulated = SimulatedCriteria(surf, simulation)
         elif simulation is not None:

@@ -34,10 +34,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from .clpath import CLPath
-from .length import cutting_length, link_length, machining_time, travel_order
-from .pattern import PassGeometry, PatternBatch, cc_pattern_batch
-from .scallop import gap_heights
-from .surface import Surface, normal_curvature, unit_normal
+from .plan.length import cutting_length, link_length, machining_time, travel_order
+from .plan.pattern import PassGeometry, PatternBatch, cc_pattern_batch
+from .criteria.scallop import gap_heights
+from .geometry.surface import Surface, normal_curvature, unit_normal
 from .tools import ToolDatabase
 
 __all__ = ["ToolpathSimulator", "CCPattern", "CRITERIA"]

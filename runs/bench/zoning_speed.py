@@ -13,11 +13,11 @@ from __future__ import annotations
 import time
 
 from evoplan.problems.toolpath import choi_surface
-from evoplan.problems.toolpath.zoning.amas import amas_zoning
-from evoplan.problems.toolpath.zoning.features import mesh_features
-from evoplan.problems.toolpath.zoning.kmeans import kmeans_zoning
-from evoplan.problems.toolpath.zoning.plan import plan_zones
-from evoplan.problems.toolpath.zoning.stepover import ScallopTarget
+from evoplan.problems.toolpath.plan.zoning.amas import amas_zoning
+from evoplan.problems.toolpath.plan.zoning.features import mesh_features
+from evoplan.problems.toolpath.plan.zoning.kmeans import kmeans_zoning
+from evoplan.problems.toolpath.plan.zoning.plan import plan_zones
+from evoplan.problems.toolpath.plan.zoning.stepover import ScallopTarget
 
 def best_of(fn, repeat=5):
     times = []

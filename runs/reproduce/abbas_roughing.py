@@ -22,7 +22,7 @@ from evoplan.commands.machine import load
 from evoplan.problems.toolpath.export.posts import POSTS, Machine
 from evoplan.problems.toolpath.roughing.operation_set import _kinematics, _tool
 from evoplan.problems.toolpath.roughing.operations import block_stock, roughing
-from evoplan.problems.toolpath.spec import parse_surface
+from evoplan.problems.toolpath.geometry.spec import parse_surface
 
 RUNS = ["abbas_gentle", "abbas_narrow_z", "abbas_wide_z"]
 ABBAS = {"abbas_gentle": ("-", "small reduction"), "abbas_narrow_z": ("-15 %", "small reduction"),

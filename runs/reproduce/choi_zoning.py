@@ -19,10 +19,10 @@ import time
 from pathlib import Path
 
 from evoplan.problems.toolpath import choi_surface
-from evoplan.problems.toolpath.zoning.merge import MergeSettings
-from evoplan.problems.toolpath.zoning.plan import plan_zones
-from evoplan.problems.toolpath.zoning.samples import sample_surface
-from evoplan.problems.toolpath.zoning.stepover import ScallopTarget
+from evoplan.problems.toolpath.plan.zoning.merge import MergeSettings
+from evoplan.problems.toolpath.plan.zoning.plan import plan_zones
+from evoplan.problems.toolpath.plan.zoning.samples import sample_surface
+from evoplan.problems.toolpath.plan.zoning.stepover import ScallopTarget
 
 FOOTER = """Reading the table:
 

@@ -18,7 +18,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..surface import principal_curvatures, unit_normal
+from ..geometry.surface import principal_curvatures, unit_normal
 
 
 @dataclass

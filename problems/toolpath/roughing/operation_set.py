@@ -16,7 +16,7 @@ from ..export.exchange import surface_dxf, surface_stl, toolpaths_dxf
 from ..export.kinematics import Kinematics, ReachError, Rotary
 from ..export.posts import POSTS, Machine, PostError
 from ..export.toolpath import Tool
-from ..spec import parse_surface
+from ..geometry.spec import parse_surface
 from .figures import layers_png
 from .operations import ball_on_offset, block_stock, finish_from_plan, roughing
 

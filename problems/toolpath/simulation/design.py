@@ -19,7 +19,7 @@ import numpy as np
 from scipy.interpolate import RegularGridInterpolator
 from scipy.spatial import cKDTree
 
-from ..surface import Surface, unit_normal
+from ..geometry.surface import Surface, unit_normal
 
 __all__ = ["DesignGrid", "design_grid", "grid_bytes", "BYTES_PER_CELL"]
 

@@ -7,7 +7,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..clpath import CLPath
-from ..surface import Surface
+from ..geometry.surface import Surface
 from .design import DesignGrid, design_grid
 from .metrics import cell_labels, residual_metrics, zone_metrics
 from .sweep import Residual, sweep_path

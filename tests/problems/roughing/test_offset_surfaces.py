@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from evoplan.problems.toolpath.roughing.offset import normal_offset
-from evoplan.problems.toolpath.surface import Jet, Surface
+from evoplan.problems.toolpath.geometry.surface import Jet, Surface
 
 
 class Sphere(Surface):

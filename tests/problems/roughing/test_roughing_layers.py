@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from evoplan.problems.toolpath.bezier import BezierSurface
+from evoplan.problems.toolpath.geometry.bezier import BezierSurface
 from evoplan.problems.toolpath.export.toolpath import Tool
 from evoplan.problems.toolpath.roughing.layers import (
     Grid, floor_field, height_field, layer_count, morph_layers, z_levels,

@@ -8,9 +8,9 @@ from toolpath_analytic import GraphSurface
 
 from evoplan.problems.toolpath.cutters import make_cutter
 from evoplan.problems.toolpath.simulation import design_grid, simulate
-from evoplan.problems.toolpath.zoning.cl_points import zone_cl_path
-from evoplan.problems.toolpath.zoning.passes import ZonePasses
-from evoplan.problems.toolpath.zoning.plan import ZonePlan, ZoningPlan
+from evoplan.problems.toolpath.plan.zoning.cl_points import zone_cl_path
+from evoplan.problems.toolpath.plan.zoning.passes import ZonePasses
+from evoplan.problems.toolpath.plan.zoning.plan import ZonePlan, ZoningPlan
 
 TOL = 0.01
 

@@ -3,7 +3,7 @@ UTF-8 only, at most 4 MiB; every refusal is one line that names the key and the 
 
 import pytest
 
-from evoplan.problems.toolpath.spec import MAX_NET_BYTES, load_poles
+from evoplan.problems.toolpath.geometry.spec import MAX_NET_BYTES, load_poles
 
 CASES = {
     "alias_bomb.yaml": "a: &a [1, 2, 3]\nb: &b [*a, *a, *a]\npoles: [*b, *b]\n",
@@ -31,7 +31,7 @@ def test_a_good_yaml_net_still_loads(tmp_path):
 
 
 def test_a_zoning_mesh_too_large_for_memory_is_refused_before_allocation():
-    from evoplan.problems.toolpath.zoning.problem import ZonedToolpathProblem
+    from evoplan.problems.toolpath.plan.zoning.problem import ZonedToolpathProblem
 
     with pytest.raises(ValueError, match=r"^mesh: a 200000 x 200000 mesh needs about [0-9.]+ GiB"):
         ZonedToolpathProblem(mesh=(200000, 200000))

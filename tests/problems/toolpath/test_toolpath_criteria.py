@@ -5,7 +5,7 @@ import pytest
 from toolpath_analytic import Cylinder, Plane, Sphere
 
 from evoplan.problems.toolpath import ToolpathSimulator, parse_tools
-from evoplan.problems.toolpath.scallop import scallop_height
+from evoplan.problems.toolpath.criteria.scallop import scallop_height
 
 BALL8 = [{"id": 1, "diameter": 8, "corner_radius": 4}]
 FLAT12 = [{"id": 1, "diameter": 12, "corner_radius": 0}]

@@ -7,10 +7,10 @@ from hypothesis import strategies as st
 from toolpath_analytic import Cylinder, Plane
 
 from evoplan.problems.toolpath import fountas_surface
-from evoplan.problems.toolpath.chord import (
+from evoplan.problems.toolpath.geometry.chord import (
     chord_deviation, chord_error_curvature, chord_error_normals, circle_curvature_eq1,
 )
-from evoplan.problems.toolpath.pattern import PassGeometry, cc_pattern_batch
+from evoplan.problems.toolpath.plan.pattern import PassGeometry, cc_pattern_batch
 
 
 @pytest.fixture(scope="module")

@@ -11,7 +11,7 @@ from hypothesis import strategies as st
 from pymoo.core.variable import Choice, Real
 
 from evoplan.problems.toolpath import ToolpathProblem, choi_surface
-from evoplan.problems.toolpath.bezier import choi_poles
+from evoplan.problems.toolpath.geometry.bezier import choi_poles
 
 GA = dict(tool=6, stepover=30.791, lead=3.379, tilt=0.040, step=8.451)
 VEGA = dict(tool=6, stepover=41.729, lead=2.957, tilt=0.027, step=6.338)

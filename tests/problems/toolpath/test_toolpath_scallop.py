@@ -7,7 +7,7 @@ from hypothesis import strategies as st
 
 from evoplan.problems.toolpath.cutters.silhouette import profile_tables
 from evoplan.problems.toolpath.cutters.effective_radius import effective_radius_lead_tilt
-from evoplan.problems.toolpath.scallop import (
+from evoplan.problems.toolpath.criteria.scallop import (
     flat_scallop, gap_heights, profile_height, scallop_height, spacing_exact,
     spacing_flat_approx, stepover_djebali_eq2,
 )

@@ -6,7 +6,7 @@ from toolpath_analytic import Cylinder, Sphere
 from scipy.integrate import simpson
 
 from evoplan.problems.toolpath import BezierSurface, BSplineSurface, choi_surface, fountas_surface
-from evoplan.problems.toolpath.bezier import choi_poles
+from evoplan.problems.toolpath.geometry.bezier import choi_poles
 
 
 def _grid(n):

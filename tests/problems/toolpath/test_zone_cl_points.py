@@ -6,12 +6,12 @@ from scipy.spatial import cKDTree
 from toolpath_analytic import GraphSurface
 
 from evoplan.problems.toolpath.cutters import make_cutter
-from evoplan.problems.toolpath.zoning.cl_points import zone_cl_path
-from evoplan.problems.toolpath.zoning.features import mesh_features
-from evoplan.problems.toolpath.zoning.passes import ZonePasses
-from evoplan.problems.toolpath.zoning.plan import ZonePlan, ZoningPlan, plan_from_labels
-from evoplan.problems.toolpath.zoning.samples import sample_surface
-from evoplan.problems.toolpath.zoning.stepover import ScallopTarget
+from evoplan.problems.toolpath.plan.zoning.cl_points import zone_cl_path
+from evoplan.problems.toolpath.plan.zoning.features import mesh_features
+from evoplan.problems.toolpath.plan.zoning.passes import ZonePasses
+from evoplan.problems.toolpath.plan.zoning.plan import ZonePlan, ZoningPlan, plan_from_labels
+from evoplan.problems.toolpath.plan.zoning.samples import sample_surface
+from evoplan.problems.toolpath.plan.zoning.stepover import ScallopTarget
 
 SLOPE = 0.4
 

@@ -9,15 +9,15 @@ import pytest
 from scipy import ndimage
 
 from evoplan.problems.toolpath import choi_surface
-from evoplan.problems.toolpath.surface import PolynomialSurface
-from evoplan.problems.toolpath.zoning.amas import amas_zoning
-from evoplan.problems.toolpath.zoning.features import mesh_features
-from evoplan.problems.toolpath.zoning.kmeans import connected_zones, kmeans_zoning
-from evoplan.problems.toolpath.zoning.passes import length_lower_bound, zone_passes
-from evoplan.problems.toolpath.zoning.plan import plan_zones
-from evoplan.problems.toolpath.zoning.profile import profile_width
-from evoplan.problems.toolpath.zoning.samples import sample_surface
-from evoplan.problems.toolpath.zoning.stepover import ScallopTarget, plane_spacing
+from evoplan.problems.toolpath.geometry.surface import PolynomialSurface
+from evoplan.problems.toolpath.plan.zoning.amas import amas_zoning
+from evoplan.problems.toolpath.plan.zoning.features import mesh_features
+from evoplan.problems.toolpath.plan.zoning.kmeans import connected_zones, kmeans_zoning
+from evoplan.problems.toolpath.plan.zoning.passes import length_lower_bound, zone_passes
+from evoplan.problems.toolpath.plan.zoning.plan import plan_zones
+from evoplan.problems.toolpath.plan.zoning.profile import profile_width
+from evoplan.problems.toolpath.plan.zoning.samples import sample_surface
+from evoplan.problems.toolpath.plan.zoning.stepover import ScallopTarget, plane_spacing
 
 TORUS = ScallopTarget.build(3.175, 1.0, 0.254)
 BALL = ScallopTarget.build(3.175, 3.175, 0.254)
@@ -190,7 +190,7 @@ def test_zone_cli_writes_everything_or_nothing(tmp_path):
 
 
 def test_zoning_genes_in_the_toolpath_problem():
-    from evoplan.problems.toolpath.zoning.problem import ZonedToolpathProblem
+    from evoplan.problems.toolpath.plan.zoning.problem import ZonedToolpathProblem
 
     prob = ZonedToolpathProblem(mesh=(20, 20), zones=(1, 4))
     assert list(prob.variables) == ["tool", "zones"]

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 from scipy import ndimage
 
-from evoplan.problems.toolpath.zoning.amas import AmasResult, amas_zoning, simple_point_lut
+from evoplan.problems.toolpath.plan.zoning.amas import AmasResult, amas_zoning, simple_point_lut
 
 SEEDS = range(4)
 

@@ -13,7 +13,7 @@ from evoplan.problems.toolpath.clpath import CLPath
 from evoplan.problems.toolpath.export.apt_read import read_apt
 from evoplan.problems.toolpath.export.apt_write import apt_toolpath
 from evoplan.problems.toolpath.export.toolpath import Tool, Toolpath
-from evoplan.problems.toolpath.zoning.figures import border_segments
+from evoplan.problems.toolpath.plan.zoning.figures import border_segments
 from evoplan.runner import prepare_file
 from tests.test_cli import evoplan, write
 

@@ -10,16 +10,16 @@ from scipy import ndimage
 
 from evoplan.cli import main as cli_main
 from evoplan.problems.toolpath import choi_surface
-from evoplan.problems.toolpath.zoning.features import MeshFeatures, mesh_features
-from evoplan.problems.toolpath.zoning.kmeans import connected_zones
-from evoplan.problems.toolpath.zoning.merge import (MergeSettings, merge_by_length,
+from evoplan.problems.toolpath.plan.zoning.features import MeshFeatures, mesh_features
+from evoplan.problems.toolpath.plan.zoning.kmeans import connected_zones
+from evoplan.problems.toolpath.plan.zoning.merge import (MergeSettings, merge_by_length,
                                                     merge_small_zones)
-from evoplan.problems.toolpath.zoning.methods import (REGISTRY, ZoningMethod, ZoningSettings,
+from evoplan.problems.toolpath.plan.zoning.methods import (REGISTRY, ZoningMethod, ZoningSettings,
                                                       register, unregister)
-from evoplan.problems.toolpath.zoning.plan import plan_zones
-from evoplan.problems.toolpath.zoning.problem import ZonedToolpathProblem
-from evoplan.problems.toolpath.zoning.samples import sample_surface
-from evoplan.problems.toolpath.zoning.stepover import ScallopTarget
+from evoplan.problems.toolpath.plan.zoning.plan import plan_zones
+from evoplan.problems.toolpath.plan.zoning.problem import ZonedToolpathProblem
+from evoplan.problems.toolpath.plan.zoning.samples import sample_surface
+from evoplan.problems.toolpath.plan.zoning.stepover import ScallopTarget
 
 from test_zoning import TORUS, TwoPlanes
 

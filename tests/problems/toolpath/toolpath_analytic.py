@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from evoplan.problems.toolpath.surface import Jet, Surface
+from evoplan.problems.toolpath.geometry.surface import Jet, Surface
 
 
 class GraphSurface(Surface):

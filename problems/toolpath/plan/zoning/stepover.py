@@ -37,8 +37,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..checks import number
-from ..cutters import Cutter, make_cutter
+from ...checks import number
+from ...cutters import Cutter, make_cutter
 from .profile import profile_width
 from .samples import SurfaceSamples
 

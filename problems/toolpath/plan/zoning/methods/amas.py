@@ -8,7 +8,7 @@ from typing import Literal
 import numpy as np
 from pydantic import Field, field_validator
 
-from ...checks import interval
+from ....checks import interval
 from ..amas import amas_zoning
 from .base import Gene, ZoningMethod, ZoningSettings
 

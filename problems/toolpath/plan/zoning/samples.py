@@ -27,7 +27,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..surface import Surface
+from ...geometry.surface import Surface
 
 __all__ = ["SurfaceSamples", "sample_surface"]
 

@@ -37,8 +37,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.spatial import cKDTree
 
-from .chord import chord_deviation
-from .surface import Surface
+from ..geometry.chord import chord_deviation
+from ..geometry.surface import Surface
 
 __all__ = ["PassGeometry", "PatternBatch", "cc_pattern_batch"]
 

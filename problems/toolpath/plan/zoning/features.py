@@ -16,7 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..surface import Surface
+from ...geometry.surface import Surface
 from .samples import graph_derivatives
 
 __all__ = ["MeshFeatures", "mesh_features", "check_mesh"]

@@ -61,7 +61,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..checks import number
+from ...checks import number
 from .amas_kernel import init_state, run_cycle
 
 __all__ = ["AmasResult", "amas_zoning", "simple_point_lut"]

@@ -19,9 +19,9 @@ import numpy as np
 from pymoo.core.problem import Problem
 from pymoo.core.variable import Choice, Integer, Real
 
-from ..checks import number
-from ..spec import parse_surface
-from ..tools import parse_tools
+from ...checks import number
+from ...geometry.spec import parse_surface
+from ...tools import parse_tools
 from .features import check_mesh, mesh_features
 from .methods import get_method
 from .plan import ZoningPlan, plan_from_labels, zone_labels
@@ -136,9 +136,9 @@ class ZonedToolpathProblem(Problem):
         section and a retract and approach between sections."""
         import textwrap
 
-        from ..figures import cc_pattern_png
-        from ..export.apt_write import apt_toolpath
-        from ..export.toolpath import Tool, Toolpath
+        from ...figures import cc_pattern_png
+        from ...export.apt_write import apt_toolpath
+        from ...export.toolpath import Tool, Toolpath
         from .figures import zone_map_png
 
         x = np.asarray(x, float).reshape(-1)

@@ -39,9 +39,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..clpath import CLPath
-from ..cutters.surface_grid import surface_grid, uv_at_xy
-from ..surface import unit_normal
+from ...clpath import CLPath
+from ...cutters.surface_grid import surface_grid, uv_at_xy
+from ...geometry.surface import unit_normal
 from .chord import refine_chords
 
 __all__ = ["PLACEMENTS", "zone_cl_path"]

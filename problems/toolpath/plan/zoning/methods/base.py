@@ -23,7 +23,7 @@ from typing import Any, ClassVar
 import numpy as np
 from pydantic import BaseModel, ConfigDict, ValidationError
 
-from ...checks import interval
+from ....checks import interval
 from ..features import MeshFeatures
 
 __all__ = ["Gene", "ZoningMethod", "ZoningSettings", "one_line"]

@@ -28,8 +28,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..cutters.surface_grid import uv_at_xy
-from ..surface import unit_normal
+from ...cutters.surface_grid import uv_at_xy
+from ...geometry.surface import unit_normal
 
 __all__ = ["refine_chords"]
 

@@ -20,9 +20,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from .design import DesignGrid, design_grid
-from .metrics import residual_metrics
-from .sweep import sweep_path
+from ..simulation.design import DesignGrid, design_grid
+from ..simulation.metrics import residual_metrics
+from ..simulation.sweep import sweep_path
 
 __all__ = ["SimulatedCriteria", "SIMULATED"]
 

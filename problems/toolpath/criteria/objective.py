@@ -19,7 +19,7 @@ import itertools
 
 import numpy as np
 
-from .checks import interval, number
+from ..checks import interval, number
 
 __all__ = ["DEFAULT_WEIGHTS", "OBJECTIVE_CRITERIA", "parse_weights", "parse_bounds",
            "normalization_design", "bounds_from_sample", "normalize", "weighted_sum"]

@@ -18,8 +18,8 @@ from dataclasses import dataclass, field
 import numpy as np
 from pydantic import ValidationError
 
-from ..checks import number
-from ..surface import Surface
+from ...checks import number
+from ...geometry.surface import Surface
 from .direction import axial_mean, optimize_direction
 from .features import MeshFeatures, check_mesh, mesh_features
 from .merge import MergeSettings, merge_zones

@@ -1,0 +1,109 @@
+"""``PlanBatch``: the toolpath plans of a batch of decision sets, flattened, in machining order.
+
+What every planning stage produces and every criterion reads. For n decision sets (one per
+individual of a population) the plans are laid end to end, with no Python object per
+point, pass or zone:
+
+- **Sections** (S): a section is one stretch of one pass plane inside one zone, cut as one
+  feed motion (the tool retracts before the next section). Sections are stored in
+  machining order: individual, then zone in plan order, then pass, then along the travel.
+  Per section: ``sec_ind`` individual, ``sec_zone`` zone (0 .. zones - 1), ``sec_pass``
+  the plane index in its zone (several sections share it when a plane leaves and
+  re-enters the zone), ``sec_d`` the plane offset along the zone's cross-feed c (mm),
+  ``sec_alpha`` the zone's feed direction (radians from +X; f = (cos, sin), c = z x f),
+  ``sec_reverse`` True when the section is travelled along -f (zig-zag), ``sec_spacing``
+  the XY distance to the neighbouring plane whose gap the analytic scallop measures and
+  ``sec_side`` which one (+1 the next plane, along +c; -1 the previous one: the zone's last
+  plane; 0 a zone of one plane), ``sec_start`` / ``sec_count`` its points.
+- **Points** (N), in machining order (a section's points along its travel): ``pt_sec``
+  the section, ``u``, ``v`` surface parameters, ``p`` the CC point, ``normal`` the unit
+  surface normal on the tool side, ``tangent`` the unit travel direction on the surface,
+  ``axis`` the unit tool axis, ``tip`` the CL point (the APT tool tip), ``chord`` the
+  larger chord error of the point's two moves (mm), ``on_part`` False for a CL point that
+  holds no CC point (a tool position past the footprint's edge that cuts the edge wedge;
+  its ``p``/``normal`` are those of the nearest CC point on the part).
+- **Moves** (N - S): the feed moves between consecutive points of a section: ``seg_sec``,
+  ``seg_err`` the chord error (the largest distance of the surface curve from the chord,
+  mm), ``seg_len`` the chord length between the CC points (mm).
+- **Per individual** (n): ``zones`` the number of zones of its plan.
+
+A plan's claimed lengths are computed from these points (``seg_len``): what is claimed is
+what is cut.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..clpath import CLPath
+
+__all__ = ["PlanBatch"]
+
+
+@dataclass
+class PlanBatch:
+    """Plans of n decision sets; see the module docstring for every field."""
+
+    n: int
+    zones: np.ndarray
+    sec_ind: np.ndarray
+    sec_zone: np.ndarray
+    sec_pass: np.ndarray
+    sec_d: np.ndarray
+    sec_alpha: np.ndarray
+    sec_reverse: np.ndarray
+    sec_spacing: np.ndarray
+    sec_side: np.ndarray
+    sec_start: np.ndarray
+    sec_count: np.ndarray
+    pt_sec: np.ndarray
+    u: np.ndarray
+    v: np.ndarray
+    p: np.ndarray
+    normal: np.ndarray
+    tangent: np.ndarray
+    axis: np.ndarray
+    tip: np.ndarray
+    chord: np.ndarray
+    on_part: np.ndarray
+    seg_sec: np.ndarray
+    seg_err: np.ndarray
+    seg_len: np.ndarray
+    info: dict = field(default_factory=dict)
+
+    @property
+    def pt_ind(self) -> np.ndarray:
+        """(N,) the individual of every point."""
+        return self.sec_ind[self.pt_sec]
+
+    @property
+    def seg_ind(self) -> np.ndarray:
+        """(N - S,) the individual of every move."""
+        return self.sec_ind[self.seg_sec]
+
+    def points_of(self, i: int) -> np.ndarray:
+        """Indices of individual i's points, in machining order."""
+        secs = np.flatnonzero(self.sec_ind == i)
+        if len(secs) == 0:
+            return np.zeros(0, np.int64)
+        return np.arange(self.sec_start[secs[0]],
+                         self.sec_start[secs[-1]] + self.sec_count[secs[-1]])
+
+    def cl_path(self, i: int, diameter: float, corner_radius: float,
+                feed_rate: float = 1000.0) -> CLPath:
+        """Individual i's toolpath as the machine runs it: its CL points, one section per
+        feed motion, passes numbered across zones, zone labels; ``info`` holds the CC points
+        (``cc``), their ``uv``, ``normal`` and ``on_part``."""
+        idx = self.points_of(i)
+        sec = self.pt_sec[idx]
+        zone = self.sec_zone[sec]
+        # passes numbered across zones in machining order
+        key = zone.astype(np.int64) * (int(self.sec_pass.max(initial=0)) + 1) + self.sec_pass[sec]
+        _, pass_index = np.unique(key, return_inverse=True)
+        info = {"cc": self.p[idx], "uv": np.column_stack([self.u[idx], self.v[idx]]),
+                "normal": self.normal[idx], "on_part": self.on_part[idx]}
+        return CLPath(self.tip[idx], self.axis[idx], diameter, corner_radius,
+                      section=sec - sec.min(initial=0), pass_index=pass_index, zone=zone,
+                      feed_rate=feed_rate, info=info)
