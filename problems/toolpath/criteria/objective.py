@@ -20,52 +20,70 @@ import itertools
 import numpy as np
 
 from ..checks import interval, number
+from .table import canonical, check_name, names
 
-__all__ = ["DEFAULT_WEIGHTS", "OBJECTIVE_CRITERIA", "parse_weights", "parse_bounds",
-           "normalization_design", "bounds_from_sample", "normalize", "weighted_sum"]
+__all__ = ["DEFAULT_WEIGHTS", "OBJECTIVE_CRITERIA", "parse_weights", "parse_objectives",
+           "parse_bounds", "normalization_design", "bounds_from_sample", "normalize",
+           "weighted_sum"]
 
 DEFAULT_WEIGHTS = {"machining_error": 0.5, "cc_count": 0.5}
 
-#: criteria that may be weighted (all finite; r_eff can be infinite and is not one)
-OBJECTIVE_CRITERIA = (
-    "cc_count", "n_passes", "chord_error_mean", "chord_error_max",
-    "scallop_max", "scallop_mean", "gouge_max", "undercut_max",
-    "machining_error", "machining_error_mean",
-    "cutting_length", "link_length", "path_length", "machining_time",
-)
+#: criteria that may be weighted: the table's weightable ones (``criteria/table.py``)
+OBJECTIVE_CRITERIA = names(weightable=True)
+
+
+def _criterion(name, key: str, seen) -> str:
+    """A weightable criterion's name (alias resolved) for the entry ``key``; refuses one
+    given twice (an alias and its name)."""
+    crit = check_name(name, key, weightable=True)
+    if crit in seen:
+        raise ValueError(f"{key}: {crit} is given twice")
+    return crit
 
 
 def parse_weights(weights=None, key: str = "weights") -> dict[str, float]:
-    """Validate weights {criterion: w}: known names, each in [0, 1], sum 1 within 1e-9."""
+    """Validate weights {criterion: w}: weightable names of the criteria table (old names
+    such as ``total_length`` accepted), each in [0, 1], sum 1 within 1e-9."""
     if weights is None:
         return dict(DEFAULT_WEIGHTS)
     if not isinstance(weights, dict) or not weights:
         raise ValueError(f"{key}: expected a non-empty mapping criterion -> weight, got {weights!r}")
     out = {}
     for name, w in weights.items():
-        if name not in OBJECTIVE_CRITERIA:
-            raise ValueError(f"{key}.{name}: unknown criterion (known: {', '.join(OBJECTIVE_CRITERIA)})")
+        crit = _criterion(name, f"{key}.{name}", out)
         x = number(w, f"{key}.{name}")
         if not 0.0 <= x <= 1.0:
             raise ValueError(f"{key}.{name}: must be in [0, 1], got {w!r}")
-        out[name] = x
+        out[crit] = x
     total = sum(out.values())
     if abs(total - 1.0) > 1e-9:
         raise ValueError(f"{key}: must sum to 1 (within 1e-9), got {total:.12g}")
     return out
 
 
+def parse_objectives(objectives, key: str = "objectives") -> list[str]:
+    """A list of weightable criteria (aliases resolved, no repeats) for a multi-objective F."""
+    if isinstance(objectives, (str, dict)) or not objectives:
+        raise ValueError(f"{key}: expected a list of criteria, got {objectives!r}")
+    out: list[str] = []
+    for i, name in enumerate(objectives):
+        out.append(_criterion(name, f"{key}[{i}]", out))
+    return out
+
+
 def parse_bounds(bounds, names, key: str = "normalization") -> dict[str, tuple[float, float]]:
-    """Explicit bounds {criterion: [lo, hi]} with lo < hi; names not given are left out."""
+    """Explicit bounds {criterion: [lo, hi]} with lo < hi for criteria among ``names`` (the
+    weighted ones; aliases resolved); names not given are left out."""
     if bounds is None:
         return {}
     if not isinstance(bounds, dict):
         raise ValueError(f"{key}: expected a mapping criterion -> [lo, hi], got {bounds!r}")
     out = {}
     for name, b in bounds.items():
-        if name not in names:
+        crit = canonical(name) if isinstance(name, str) else name
+        if crit not in names:
             raise ValueError(f"{key}.{name}: not a weighted criterion ({', '.join(names)})")
-        out[name] = interval(b, f"{key}.{name}")
+        out[crit] = interval(b, f"{key}.{name}")
     return out
 
 

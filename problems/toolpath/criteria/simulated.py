@@ -23,11 +23,12 @@ import numpy as np
 from ..simulation.design import DesignGrid, design_grid
 from ..simulation.metrics import residual_metrics
 from ..simulation.sweep import sweep_path
+from .table import names
 
 __all__ = ["SimulatedCriteria", "SIMULATED"]
 
-SIMULATED = ("scallop_max", "scallop_mean", "gouge_max", "undercut_max", "machining_error",
-             "machining_error_mean")
+#: the criteria the cut simulation measures (the table's ``simulated`` flag)
+SIMULATED = names(simulated=True)
 
 
 class SimulatedCriteria:
@@ -66,16 +67,17 @@ class SimulatedCriteria:
         return {**self.__dict__, "_grid": None}
 
     def measure(self, path, flat: bool) -> dict[str, float]:
-        """The simulated criteria of one CL path (``flat``: a flat-end cutter)."""
+        """The simulated criteria (``SIMULATED``) of one CL path (``flat``: a flat-end cutter)."""
         grid = self.grid
         res = sweep_path(path, grid, vertical=self.vertical).values
         m = residual_metrics(grid, res, self.allowance)
         dev = np.abs(np.clip(res[grid.inside], -np.inf, self.allowance))
         area = grid.cell_area()[grid.inside]
-        return {
+        values = {
             "scallop_max": m["scallop_max_mm"], "scallop_mean": m["scallop_mean_mm"],
             "gouge_max": m["gouge_max_mm"],
             "undercut_max": m["scallop_max_mm"] if flat else 0.0,
             "machining_error": max(m["scallop_max_mm"], m["gouge_max_mm"]),
             "machining_error_mean": float((dev * area).sum() / area.sum()),
         }
+        return {name: values[name] for name in SIMULATED}

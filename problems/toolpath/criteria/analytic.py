@@ -1,0 +1,213 @@
+"""The analytic criteria of a batch of plans: one pass over a ``PlanBatch``, no simulation.
+
+:func:`analytic_criteria` computes every criterion of the ``analytic`` family of
+``criteria/table.py`` for the n plans of a :class:`~problems.toolpath.plan.batch.PlanBatch`,
+vectorized over all their points, moves and sections (a Python loop only over the distinct
+tools):
+
+- **Scallop and gouge** per point on the part, at the middle of the gap between the point's
+  section and the neighbouring plane it faces (``sec_side``; none for a zone of one plane):
+  the gap's width on the surface is w = sec_spacing / (b.c), b the unit cross-feed tangent
+  (the surface tangent in the vertical plane through c = (-sin alpha, cos alpha, 0)), and
+  kappa the normal curvature along b (> 0 concave).
+
+  - 5-axis (genes ``lead``/``tilt``): the projected-profile model of ``criteria/scallop.py``
+    (:func:`~problems.toolpath.criteria.scallop.gap_heights` on each plan's
+    ``Cutter.swept_profile`` tables). The gap lies on the tool's +b side when the section
+    travels along +f and faces the next plane, or travels along -f and faces the previous one.
+  - 3-axis (no lead/tilt): the circle model of the same module,
+    :func:`~problems.toolpath.criteria.scallop.scallop_height` with the exact effective
+    radius of the vertical cutter at each point (``Cutter.effective_radius`` with a.t = t_z,
+    a.n = n_z: Djebali Eq. 1 written in the travel frame). It is exact for a ball-end; for a
+    toroidal or flat-end tool the circle only matches the swept profile near the contact
+    (see ``plan/zoning/profile.py``). A gap the circle does not span leaves the allowance.
+
+  Heights are capped at the finishing ``allowance``; a negative height is a gouge.
+- **Machining error** per point (Fountas Fig. 1): chord error (larger of the point's two
+  moves) + scallop + gouge; max and mean over the points on the part.
+- **Lengths**: cutting = sum of ``seg_len``; between consecutive sections of one plan the
+  move from the last CC point of one to the first of the next is a link (same zone) or an
+  inter-zone move; path = cutting + link + inter-zone; time = path / feed rate (min).
+- **Djebali Eq. 4**: eq4_total = cutting length + (zones - 1) delta_l.
+
+``objective`` (Fountas Eq. 9) is not computed here: it needs the weights and the
+normalization bounds (``criteria/objective.py``).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..geometry.surface import normal_curvature, unit_normal
+from .scallop import gap_heights, scallop_height
+from .table import names
+
+__all__ = ["analytic_criteria", "point_heights", "ANALYTIC"]
+
+#: the names :func:`analytic_criteria` returns, in table order
+ANALYTIC = names(family="analytic")
+
+
+def _tool_index(genes, tools, n) -> np.ndarray:
+    ti = np.clip(np.rint(np.asarray(genes["tool"], float)).astype(int), 0, len(tools) - 1)
+    return np.broadcast_to(ti, (n,))
+
+
+def _five_axis(genes, machine) -> bool:
+    if machine is None:
+        return "lead" in genes and "tilt" in genes
+    if machine not in ("5axis", "3axis"):
+        raise ValueError(f"machine: expected 5axis or 3axis, got {machine!r}")
+    return machine == "5axis"
+
+
+def swept_profiles(tools, ti, lead, tilt):
+    """Profile tables (x, z, reach) of every plan (rows 2i, 2i + 1 for plan i): each tool's
+    cutter gives its plans' tables (``Cutter.swept_profile``, radians); a shorter table is
+    padded with its last point (the profile is vertical beyond its reach)."""
+    parts = []
+    for t in np.unique(ti):
+        rows = np.flatnonzero(ti == t)
+        parts.append((rows, tools.cutter(t).swept_profile(lead[rows], tilt[rows])))
+    m = max(p[1][0].shape[1] for p in parts)
+    x, z, reach = np.empty((2 * len(ti), m)), np.empty((2 * len(ti), m)), np.empty(2 * len(ti))
+    for rows, (xt, zt, rt) in parts:
+        at = np.stack([2 * rows, 2 * rows + 1], axis=1).ravel()
+        pad = ((0, 0), (0, m - xt.shape[1]))
+        x[at], z[at], reach[at] = np.pad(xt, pad, mode="edge"), np.pad(zt, pad, mode="edge"), rt
+    return x, z, reach
+
+
+def _per_tool(tools, ti, fn) -> np.ndarray:
+    """fn(cutter, rows) -> values of those rows, for each distinct tool of ti."""
+    out = np.empty(len(ti))
+    for t in np.unique(ti):
+        rows = np.flatnonzero(ti == t)
+        out[rows] = fn(tools.cutter(t), rows)
+    return out
+
+
+def point_heights(batch, surface, tools, genes, *, allowance, machine=None) -> dict:
+    """Per point (N,): ``h`` the signed material height in the gap (mm, < 0 gouge),
+    ``kappa``, ``w``, ``normal``, and ``r_eff`` (3-axis: per point; 5-axis: per plan's
+    lead/tilt). See the module docstring for the model."""
+    n = batch.n
+    ti = _tool_index(genes, tools, n)
+    sec = batch.pt_sec
+    ind = batch.sec_ind[sec]
+    jet = surface.jet(batch.u, batch.v, order=2)
+    nrm = unit_normal(jet, surface.normal_sign)
+    alpha = batch.sec_alpha[sec]
+    c3 = np.column_stack([-np.sin(alpha), np.cos(alpha), np.zeros_like(alpha)])
+    bvec = c3 - np.einsum("ij,ij->i", nrm, c3)[:, None] * nrm
+    bc = np.linalg.norm(bvec, axis=-1)  # = b.c, b the unit cross-feed tangent
+    kappa = normal_curvature(jet, bvec / bc[:, None], surface.normal_sign)
+    w = batch.sec_spacing[sec] / bc
+    side = batch.sec_side[sec]
+    if _five_axis(genes, machine):
+        lead = np.broadcast_to(np.radians(np.asarray(genes["lead"], float)), (n,))
+        tilt = np.broadcast_to(np.radians(np.asarray(genes["tilt"], float)), (n,))
+        sigma = np.where(batch.sec_reverse[sec], -1, 1)
+        h = gap_heights(swept_profiles(tools, ti, lead, tilt), ind, sigma * side, w, kappa,
+                        allowance)
+        r_eff = _per_tool(tools, ti, lambda c, rows: c.effective_radius_lead_tilt(
+            lead[rows], tilt[rows]))[ind]
+    else:
+        t_z = np.abs(batch.tangent[:, 2])
+        pt_tool = ti[ind]
+        r_eff = _per_tool(tools, pt_tool, lambda c, rows: c.effective_radius(
+            t_z[rows], nrm[rows, 2]))
+        with np.errstate(invalid="ignore"):
+            h = scallop_height(r_eff, w, kappa)
+        h = np.minimum(np.where(np.isnan(h), allowance, h), allowance)
+    h = np.where(side != 0, h, 0.0)
+    return dict(h=h, kappa=kappa, w=w, normal=nrm, r_eff=r_eff)
+
+
+def _group_max(x, owner, n) -> np.ndarray:
+    """Largest x per owner (owner sorted ascending), 0 for an owner with none."""
+    out = np.zeros(n)
+    counts = np.bincount(owner, minlength=n)
+    has = counts > 0
+    if has.any():
+        out[has] = np.maximum.reduceat(x, (np.cumsum(counts) - counts)[has])
+    return out
+
+
+def _group_mean(x, owner, n) -> np.ndarray:
+    counts = np.bincount(owner, minlength=n)
+    return np.bincount(owner, x, n) / np.maximum(counts, 1)
+
+
+def _group_min(x, owner, n) -> np.ndarray:
+    """Smallest x per owner (owner sorted ascending), inf for an owner with none."""
+    has = np.bincount(owner, minlength=n) > 0
+    return np.where(has, -_group_max(-x, owner, n), np.inf)
+
+
+def plan_lengths(batch) -> dict[str, np.ndarray]:
+    """Per plan (n,): cutting, link and inter-zone lengths (mm) from the plan's points."""
+    n = batch.n
+    cutting = np.bincount(batch.sec_ind[batch.seg_sec], batch.seg_len, n)
+    s = np.flatnonzero(batch.sec_ind[1:] == batch.sec_ind[:-1])  # section s -> s + 1
+    end = batch.p[batch.sec_start[s] + batch.sec_count[s] - 1]
+    dist = np.linalg.norm(batch.p[batch.sec_start[s + 1]] - end, axis=-1)
+    same = batch.sec_zone[s + 1] == batch.sec_zone[s]
+    own = batch.sec_ind[s]
+    return {"cutting_length": cutting,
+            "link_length": np.bincount(own, np.where(same, dist, 0.0), n),
+            "interzone_length": np.bincount(own, np.where(same, 0.0, dist), n)}
+
+
+def _plan_counts(batch) -> dict[str, np.ndarray]:
+    n, si = batch.n, batch.sec_ind
+    new_pass = np.ones(len(si), bool)
+    new_pass[1:] = ((si[1:] != si[:-1]) | (batch.sec_zone[1:] != batch.sec_zone[:-1])
+                    | (batch.sec_pass[1:] != batch.sec_pass[:-1]))
+    return {"cc_count": np.bincount(batch.pt_ind[batch.on_part], minlength=n).astype(float),
+            "n_passes": np.bincount(si[new_pass], minlength=n).astype(float),
+            "n_sections": np.bincount(si, minlength=n).astype(float),
+            "zones": np.asarray(batch.zones, float).reshape(n)}
+
+
+def analytic_criteria(batch, surface, tools, genes: dict, *, allowance: float,
+                      feed_rate: float, delta_l: float, machine: str | None = None
+                      ) -> dict[str, np.ndarray]:
+    """Every analytic criterion (``ANALYTIC``, table order), each (n,), of the n plans of
+    ``batch`` (a ``PlanBatch``) on ``surface``.
+
+    tools: the ``ToolDatabase``; genes: per plan (n,) arrays, ``tool`` the tool INDEX and, for
+    a 5-axis plan, ``lead`` and ``tilt`` (degrees); other genes are ignored. allowance:
+    finishing stock (mm, the cap of a scallop); feed_rate (mm/min); delta_l: Djebali's
+    Delta L per extra zone (mm). machine: ``5axis`` | ``3axis``; None: 5-axis when the genes
+    hold lead and tilt. Points off the part (``on_part`` False) count in the lengths only.
+    """
+    n = batch.n
+    if n == 0:
+        return {name: np.zeros(0) for name in ANALYTIC}
+    ti = _tool_index(genes, tools, n)
+    pt = point_heights(batch, surface, tools, genes, allowance=allowance, machine=machine)
+    on = np.asarray(batch.on_part, bool)
+    ind = batch.pt_ind[on]
+    h = pt["h"][on]
+    scallop, gouge = np.maximum(h, 0.0), np.maximum(-h, 0.0)
+    err = batch.chord[on] + scallop + gouge
+    seg_ind = batch.sec_ind[batch.seg_sec]
+    crit = _plan_counts(batch)
+    crit |= {
+        "chord_error_mean": _group_mean(batch.seg_err, seg_ind, n),
+        "chord_error_max": _group_max(batch.seg_err, seg_ind, n),
+        "r_eff": _group_min(pt["r_eff"][on], ind, n),
+        "scallop_max": _group_max(scallop, ind, n),
+        "scallop_mean": _group_mean(scallop, ind, n),
+        "gouge_max": _group_max(gouge, ind, n),
+        "machining_error": _group_max(err, ind, n),
+        "machining_error_mean": _group_mean(err, ind, n),
+    }
+    sharp = np.array([c.sharp_rim for c in tools.cutters], bool)[ti]
+    crit["undercut_max"] = np.where(sharp, crit["scallop_max"], 0.0)
+    crit |= plan_lengths(batch)
+    crit["path_length"] = crit["cutting_length"] + crit["link_length"] + crit["interzone_length"]
+    crit["machining_time"] = crit["path_length"] / float(feed_rate)
+    crit["eq4_total"] = crit["cutting_length"] + (crit["zones"] - 1.0) * float(delta_l)
+    return {name: crit[name] for name in ANALYTIC}
