@@ -18,7 +18,8 @@ point, pass or zone:
 - **Points** (N), in machining order (a section's points along its travel): ``pt_sec``
   the section, ``u``, ``v`` surface parameters, ``p`` the CC point, ``normal`` the unit
   surface normal on the tool side, ``tangent`` the unit travel direction on the surface,
-  ``axis`` the unit tool axis, ``tip`` the CL point (the APT tool tip), ``chord`` the
+  ``axis`` the unit tool axis, ``tip`` the CL point (the APT tool tip; None when the
+  planner was asked not to place the tool: the analytic criteria do not need it), ``chord`` the
   larger chord error of the point's two moves (mm), ``on_part`` False for a CL point that
   holds no CC point (a tool position past the footprint's edge that cuts the edge wedge;
   its ``p``/``normal`` are those of the nearest CC point on the part).
@@ -65,7 +66,7 @@ class PlanBatch:
     normal: np.ndarray
     tangent: np.ndarray
     axis: np.ndarray
-    tip: np.ndarray
+    tip: np.ndarray | None
     chord: np.ndarray
     on_part: np.ndarray
     seg_sec: np.ndarray
@@ -96,6 +97,8 @@ class PlanBatch:
         """Individual i's toolpath as the machine runs it: its CL points, one section per
         feed motion, passes numbered across zones, zone labels; ``info`` holds the CC points
         (``cc``), their ``uv``, ``normal`` and ``on_part``."""
+        if self.tip is None:
+            raise ValueError("plan: the tool was not placed (plan with place=True)")
         idx = self.points_of(i)
         sec = self.pt_sec[idx]
         zone = self.sec_zone[sec]

@@ -1,0 +1,104 @@
+"""Tool orientation and placement: CC points in, tool axes and CL points (tips) out.
+
+One abstraction, one registry (``MACHINES``), batched over points:
+
+- ``5axis``: the axis leans from the surface normal n in the travel frame (t the unit travel
+  direction, b = n x t): a lead angle aL about the cross-feed axis, then a tilt aT about
+  the feed (Fountas et al., Fig. 1 and Sec. 2):
+
+      a = sin aL t + cos aL sin aT b + cos aL cos aT n
+
+  and the tip puts the cutter tangent to the surface at the CC point
+  (``Cutter.cc_to_tip``). Genes: ``lead`` and ``tilt`` (degrees).
+- ``3axis``: the axis is +z. Placement ``cc``: the tip that makes the vertical cutter
+  tangent to the surface at the CC point (``Cutter.cc_to_tip``; where the surface curves
+  more than the cutter nearby, that tool gouges it). Placement ``drop`` (default): the same
+  XY, with the height of the drop-cutter there (``Cutter.drop_cutter``: the highest tip at
+  which the cutter touches the exact surface and nowhere penetrates it), so the tool is
+  gouge-free and touches at the CC point wherever the tangent tool did not gouge. The
+  tool's XY is the tangent tool's, not the CC point's: on a slope a vertical cutter touches
+  with its uphill side, so a tool centred above the CC point would touch up to R uphill of
+  it and leave a strip of width ~R uncut along every downhill edge of the part. No genes.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["MACHINES", "Machine", "FiveAxis", "ThreeAxis", "travel_tangent", "get_machine"]
+
+
+def travel_tangent(normal, alpha, reverse) -> np.ndarray:
+    """Unit travel direction on the surface at each point: the section tangent of the plane
+    with cross-feed c = (-sin alpha, cos alpha, 0), t = c x n normalized (along +f), negated
+    where the section is travelled along -f. normal (N, 3); alpha, reverse (N,)."""
+    c = np.column_stack([-np.sin(alpha), np.cos(alpha), np.zeros_like(alpha)])
+    t = np.cross(c, normal)
+    t /= np.linalg.norm(t, axis=1, keepdims=True)
+    return np.where(np.asarray(reverse, bool)[:, None], -t, t)
+
+
+class Machine:
+    """How a machine orients and places the tool. ``genes``: the decisions it adds."""
+
+    name = ""
+    genes: tuple[str, ...] = ()
+
+    def axes(self, normal, tangent, genes: dict) -> np.ndarray:
+        """Unit tool axes (N, 3) from normals, travel tangents and per-point genes (N,)."""
+        raise NotImplementedError
+
+    def tips(self, cutter, surface, cc, normal, axis) -> np.ndarray:
+        """CL points (k, 3) of one cutter's CC points (k, 3)."""
+        raise NotImplementedError
+
+
+class FiveAxis(Machine):
+    name = "5axis"
+    genes = ("lead", "tilt")
+
+    def axes(self, normal, tangent, genes):
+        lead = np.radians(np.asarray(genes["lead"], float))[:, None]
+        tilt = np.radians(np.asarray(genes["tilt"], float))[:, None]
+        b = np.cross(normal, tangent)
+        return (np.sin(lead) * tangent + np.cos(lead) * np.sin(tilt) * b
+                + np.cos(lead) * np.cos(tilt) * normal)
+
+    def tips(self, cutter, surface, cc, normal, axis):
+        return cutter.cc_to_tip(cc, normal, axis)
+
+
+class ThreeAxis(Machine):
+    name = "3axis"
+    PLACEMENTS = ("drop", "cc")
+
+    def __init__(self, placement: str = "drop"):
+        if placement not in self.PLACEMENTS:
+            raise ValueError(f"placement: expected one of {', '.join(self.PLACEMENTS)}, "
+                             f"got {placement!r}")
+        self.placement = placement
+
+    def axes(self, normal, tangent, genes):
+        return np.broadcast_to(np.array([0.0, 0.0, 1.0]), normal.shape).copy()
+
+    def tips(self, cutter, surface, cc, normal, axis):
+        tangent_tip = cutter.cc_to_tip(cc, normal, (0.0, 0.0, 1.0))
+        if self.placement == "cc":
+            return tangent_tip
+        xy = tangent_tip[:, :2]
+        return np.column_stack([xy, cutter.drop_cutter(surface, xy)])
+
+
+MACHINES = {"5axis": FiveAxis, "3axis": ThreeAxis}
+
+
+def get_machine(name, placement: str | None = None) -> Machine:
+    """The registered machine ``name`` (``5axis`` or ``3axis``); ValueError naming ``machine``."""
+    if name not in MACHINES:
+        raise ValueError(f"machine: expected one of {', '.join(MACHINES)}, got {name!r}")
+    if name == "3axis":
+        return ThreeAxis(placement or "drop")
+    if placement not in (None, "cc"):
+        raise ValueError(f"placement: a 5-axis tool is placed tangent at the CC point (cc), "
+                         f"got {placement!r}")
+    return FiveAxis()

@@ -1,0 +1,220 @@
+"""The planner: decisions in, toolpath plans (``PlanBatch``) out, for a whole population.
+
+One pipeline for every configuration (the folders' order):
+
+1. **Zones** (``zones.py``): ``single`` (the whole part), or a zoning method of the
+   registry (``zoning/methods``: kmeans, amas) with its gene; zone labels on the
+   parametric mesh are memoized per gene value.
+2. **Feed direction per zone**: the configured ``feed_angle``, or optimized per zone
+   (Herraz Eq. 3 on the zone's samples: ``zoning/direction.py``), memoized per
+   (zoning, tool).
+3. **Passes** (``sections.py``): vertical planes parallel to the zone's feed, spaced by a
+   fixed step-over (% of D, measured in XY) or by the scallop target h_c, adaptively per
+   pass (``zoning/passes.py``); each plane is cut into the sections where it crosses the
+   zone, grown by the overlap that makes neighbouring zones' passes meet.
+4. **CC points** (``points.py``): the maximum step, then the chord tolerance.
+5. **Orientation and placement** (``orientation.py``): 3-axis (drop-cutter) or 5-axis
+   (lead/tilt).
+6. **Order**: zones in plan order, passes in zig-zag inside a zone, sections along their
+   travel: a ``PlanBatch`` in machining order.
+
+Everything is batched: the individuals that share a zone geometry (the same direction) are
+planned together with no Python loop per individual, pass or point.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..geometry.surface import Surface, unit_normal
+from ..tools import ToolDatabase
+from ..clpath import CLPath
+from .batch import PlanBatch
+from .orientation import get_machine, travel_tangent
+from .planes import PassGeometry
+from .points import sample_sections
+from .sections import Sections, full_plane_sections, zone_sections
+from .zones import ZoneLayouts
+from .zoning.chord import refine_chords
+
+__all__ = ["Planner", "SPACINGS"]
+
+SPACINGS = ("stepover", "scallop")
+
+
+class Planner:
+    """Plans of a surface, a tool database and a strategy; see the module docstring.
+
+    ``machine``: ``5axis`` | ``3axis``; ``placement``: 3-axis ``drop`` | ``cc``;
+    ``zoning``: None (a single zone) or a ``zones.ZoningSpec``; ``spacing``: ``stepover``
+    (gene, % of D) | ``scallop`` (h_c, adaptive); ``h_c`` (mm): the scallop target of the
+    adaptive spacing and of the zone-direction search; ``tolerance``: the chord tolerance
+    (mm); ``feed_angle``: degrees from +X, or None (optimized per zone);
+    ``max_rounds``: chord refinement rounds.
+    """
+
+    def __init__(self, surface: Surface, tools: ToolDatabase, *, machine: str = "5axis",
+                 placement: str | None = None, zoning=None, spacing: str = "stepover",
+                 h_c: float | None = None, tolerance: float = 0.01,
+                 feed_angle: float | None = 0.0, max_rounds: int = 6):
+        if spacing not in SPACINGS:
+            raise ValueError(f"spacing: expected one of {', '.join(SPACINGS)}, got {spacing!r}")
+        if spacing == "scallop" and h_c is None:
+            raise ValueError("h_c: the scallop spacing needs a scallop height h_c (mm)")
+        self.surface, self.tools = surface, tools
+        self.machine = get_machine(machine, placement)
+        self.spacing, self.h_c = spacing, (None if h_c is None else float(h_c))
+        self.tolerance, self.max_rounds = float(tolerance), int(max_rounds)
+        self.feed_angle = None if feed_angle is None else float(feed_angle)
+        self.layouts = ZoneLayouts(surface, tools, zoning, self.h_c, self.feed_angle)
+        self._geoms: dict[float, PassGeometry] = {}
+
+    # ---------------------------------------------------------------------------------
+    @property
+    def gene_names(self) -> tuple[str, ...]:
+        """The decisions this configuration reads, in chromosome order."""
+        names = ["tool"] + (["stepover"] if self.spacing == "stepover" else [])
+        names += list(self.machine.genes) + ["step"]
+        if self.layouts.gene is not None:
+            names.append(self.layouts.gene)
+        return tuple(names)
+
+    def geometry(self, alpha: float) -> PassGeometry:
+        """Pass-plane tables for the feed direction alpha (radians), memoized."""
+        key = round(float(np.degrees(alpha)) % 360.0, 9)
+        if key not in self._geoms:
+            self._geoms[key] = PassGeometry(self.surface, key)
+        return self._geoms[key]
+
+    def plan(self, genes: dict, place: bool = True) -> PlanBatch:
+        """Plans of n decision sets: ``genes`` maps every name of :attr:`gene_names` to an
+        (n,) array (``tool`` the INDEX into the database). ``place``: also the CL points
+        (``tip``); the analytic criteria do not need them, and a 3-axis drop-cutter
+        placement is the costliest step of a plan, so an evaluation skips it."""
+        missing = [g for g in self.gene_names if g not in genes]
+        if missing:
+            raise ValueError(f"genes: missing {', '.join(missing)}")
+        tool = np.asarray(genes["tool"]).astype(np.int64)
+        n = len(tool)
+        step = np.broadcast_to(np.asarray(genes["step"], float), (n,))
+        if self.spacing == "stepover":
+            delta = np.asarray(genes["stepover"], float) / 100.0 * 2.0 * self.tools.R[tool]
+        else:
+            delta = np.full(n, np.nan)
+        parts: list[Sections] = []
+        zones = np.ones(n, np.int64)
+        if self.layouts.gene is None and self.layouts.single and self.spacing == "stepover":
+            geom = self.geometry(np.radians(self.feed_angle))
+            parts.append(full_plane_sections(geom, np.arange(n), delta, step))
+        else:
+            values = (np.asarray(genes[self.layouts.gene], float) if self.layouts.gene
+                      else np.zeros(n))
+            for (value, t), rows in _groups(values, tool, self.layouts):
+                layout = self.layouts.get(value, t)
+                zones[rows] = layout.count
+                for z in range(layout.count):
+                    geom = self.geometry(layout.alpha[z])
+                    parts.append(zone_sections(geom, layout, z, rows, delta[rows], step[rows],
+                                               self.spacing))
+        return self._assemble(n, zones, parts, tool, genes, place)
+
+    def cl_path(self, genes: dict, feed_rate: float = 1000.0, chord_rounds: int = 8) -> CLPath:
+        """The toolpath of ONE decision set (``genes``: a value or a (1,) array per name) as
+        the machine runs it. A 3-axis plan's moves are split until each stays within the
+        chord tolerance of the placement's CL curve (``zoning/chord.py``: the drop-cutter
+        tip falls away at edges and crests, and a straight move there would cut into the
+        part); ``info`` reports it and the CC points."""
+        one = {k: np.atleast_1d(np.asarray(v))[:1] for k, v in genes.items()}
+        batch = self.plan(one, place=True)
+        tool = self.tools.tools[int(one["tool"][0])]
+        path = batch.cl_path(0, tool.diameter, tool.corner_radius, feed_rate)
+        if self.machine.name != "3axis":
+            return path
+        pts = {"uv": path.info["uv"], "cc": path.info["cc"], "normal": path.info["normal"],
+               "tip": path.tip, "section": path.section, "pass_index": path.pass_index,
+               "zone": path.zone}
+        cutter = tool.cutter
+
+        def place(c, surface, cc, normal):
+            return self.machine.tips(c, surface, cc, normal, None)
+
+        pts, stats = refine_chords(self.surface, cutter, place, pts, self.tolerance,
+                                   chord_rounds)
+        info = {"cc": pts["cc"], "uv": pts["uv"], "normal": pts["normal"], **stats}
+        return CLPath(pts["tip"], np.array([0.0, 0.0, 1.0]), tool.diameter,
+                      tool.corner_radius, section=pts["section"],
+                      pass_index=pts["pass_index"], zone=pts["zone"], feed_rate=feed_rate,
+                      info=info)
+
+    # ---------------------------------------------------------------------------------
+    def _assemble(self, n, zones, parts, tool, genes, place) -> PlanBatch:
+        """Sample every part's sections, order them for machining, orient the tool."""
+        parts = [s for s in parts if len(s.d)]
+        if not parts:
+            raise ValueError("plan: no section holds a CC point (empty plan)")
+        sampled = [sample_sections(s.geom, s.d, s.ta, s.tb, s.step, self.tolerance,
+                                   self.max_rounds) for s in parts]
+        sec = {k: np.concatenate([getattr(s, k) for s in parts])
+               for k in ("ind", "zone", "pass_k", "d", "ta", "spacing", "side")}
+        sec["alpha"] = np.concatenate([np.full(len(s.d), s.alpha) for s in parts])
+        sec_off = np.cumsum([0] + [len(s.d) for s in parts])[:-1]
+        pt_off = np.cumsum([0] + [len(sp.u) for sp in sampled])[:-1]
+        start = np.concatenate([sp.sec_start + o for sp, o in zip(sampled, pt_off)])
+        count = np.concatenate([sp.sec_count for sp in sampled])
+        pts = {k: np.concatenate([getattr(sp, k) for sp in sampled])
+               for k in ("u", "v", "p", "chord", "seg_err", "seg_len")}
+        seg_sec = np.concatenate([sp.seg_sec + o for sp, o in zip(sampled, sec_off)])
+        reverse = _pass_rank(sec["ind"], sec["zone"], sec["pass_k"]) % 2 == 1
+        # machining order: individual, zone, plane; a reversed plane's sections from far to near
+        order = np.lexsort((np.where(reverse, -sec["ta"], sec["ta"]), sec["pass_k"],
+                            sec["zone"], sec["ind"]))
+        sec = {k: a[order] for k, a in sec.items()}
+        reverse, count = reverse[order], count[order]
+        new_start = np.cumsum(count) - count
+        pt_sec = np.repeat(np.arange(len(order)), count)
+        j = np.arange(len(pt_sec)) - new_start[pt_sec]
+        src = start[order][pt_sec] + np.where(reverse[pt_sec], count[pt_sec] - 1 - j, j)
+        inv = np.empty(len(order), np.int64)
+        inv[order] = np.arange(len(order))
+        seg_order = np.argsort(inv[seg_sec], kind="stable")
+        u, v, p, chord = (pts[k][src] for k in ("u", "v", "p", "chord"))
+        normal = unit_normal(self.surface.jet(u, v, order=1), self.surface.normal_sign)
+        tangent = travel_tangent(normal, sec["alpha"][pt_sec], reverse[pt_sec])
+        ind_pt = sec["ind"][pt_sec]
+        axis = self.machine.axes(normal, tangent, {g: np.asarray(genes[g], float)[ind_pt]
+                                                   for g in self.machine.genes})
+        tip = None
+        if place:
+            tip = np.empty_like(p)
+            for t in np.unique(tool[ind_pt]):
+                sel = tool[ind_pt] == t
+                tip[sel] = self.machine.tips(self.tools.cutter(t), self.surface, p[sel],
+                                             normal[sel], axis[sel])
+        return PlanBatch(
+            n=n, zones=zones, sec_ind=sec["ind"], sec_zone=sec["zone"], sec_pass=sec["pass_k"],
+            sec_d=sec["d"], sec_alpha=sec["alpha"], sec_reverse=reverse,
+            sec_spacing=sec["spacing"], sec_side=sec["side"], sec_start=new_start,
+            sec_count=count, pt_sec=pt_sec, u=u, v=v, p=p, normal=normal, tangent=tangent,
+            axis=axis, tip=tip, chord=chord, on_part=np.ones(len(u), bool),
+            seg_sec=inv[seg_sec][seg_order], seg_err=pts["seg_err"][seg_order],
+            seg_len=pts["seg_len"][seg_order])
+
+
+def _pass_rank(ind, zone, pass_k):
+    """Rank of each section's plane among the non-empty planes of its (individual, zone):
+    the zig-zag alternates over the planes that are really cut."""
+    o = np.lexsort((pass_k, zone, ind))
+    g_new = np.r_[True, (ind[o][1:] != ind[o][:-1]) | (zone[o][1:] != zone[o][:-1])]
+    p_new = g_new | np.r_[True, pass_k[o][1:] != pass_k[o][:-1]]
+    cum = np.cumsum(p_new)
+    rank = np.empty(len(o), np.int64)
+    rank[o] = cum - np.maximum.accumulate(np.where(g_new, cum, 0))
+    return rank
+
+
+def _groups(values, tool, layouts):
+    """Individuals grouped by (zoning gene value, tool): {(value, tool): rows}."""
+    keys = {}
+    for i, (val, t) in enumerate(zip(values, tool)):
+        keys.setdefault((layouts.key(val), int(t)), []).append(i)
+    return [(k, np.array(v)) for k, v in keys.items()]

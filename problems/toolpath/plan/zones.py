@@ -1,0 +1,168 @@
+"""Zone layouts: the zones of a plan, each with its feed direction, memoized per decision.
+
+A layout depends only on the zoning gene's value and the tool, so it is computed once per
+(value, tool) and reused by every individual that shares them (a population's zoned
+evaluations mostly hit this memo):
+
+1. zone labels on the parametric mesh: the registered method (``zoning/methods``: single,
+   kmeans, amas) with its settings and the gene's value, then the merging of
+   ``zoning/merge.py`` (a minimum zone area, then Djebali Eq. 4 merging), as
+   ``evoplan zone`` does;
+2. per zone, the feed direction: the configured angle, or Herraz Eq. 3 (the zone's
+   cutting length at h_c minimized over the direction, ``zoning/direction.py``) started
+   from the zone's steepest-slope direction;
+3. per zone, the adaptive planes at h_c (``zoning/passes.py``: each plane as far from the
+   previous one as the worst point of its pass allows), the zone's extent across its feed,
+   and its distance field: the XY distance (mm) from every mesh cell to the zone, which
+   lets a plan grow the zone's sections into its neighbours (``sections.py``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy import ndimage
+
+from .zoning.direction import axial_mean, optimize_direction
+from .zoning.features import check_mesh, mesh_features
+from .zoning.merge import MergeSettings, merge_zones
+from .zoning.methods import get_method
+from .zoning.passes import zone_passes
+from .zoning.samples import sample_surface
+from .zoning.stepover import ScallopTarget
+
+__all__ = ["ZoningSpec", "ZoneLayout", "ZoneLayouts"]
+
+
+@dataclass(frozen=True)
+class ZoningSpec:
+    """How a plan is zoned: a registered ``method`` with its fixed ``settings`` (the gene, if
+    the method has one, comes from the decisions), the parametric ``mesh``, the ``merge``
+    post-process (None: the method's zones as they are), the Eq. 4 penalty ``delta_l`` used
+    by the merging (mm) and the ``seed`` of any randomness."""
+
+    method: str = "single"
+    settings: dict = field(default_factory=dict)
+    mesh: tuple[int, int] = (70, 70)
+    merge: MergeSettings | None = field(default_factory=MergeSettings)
+    delta_l: float = 40.0
+    seed: int = 0
+
+
+@dataclass
+class ZoneLayout:
+    """The zones of one (gene value, tool): ``labels`` (n, m) on the mesh, per zone the feed
+    direction ``alpha`` (radians), the adaptive planes ``planes`` at h_c (offsets along the
+    zone's cross-feed c, mm), its extent ``extent`` (lo, hi) along c, and ``distance`` the
+    XY distance of every mesh cell to the zone (mm, 0 inside); ``info`` the merging facts."""
+
+    labels: np.ndarray
+    alpha: list[float]
+    planes: list[np.ndarray]
+    extent: list[tuple[float, float]]
+    distance: list[np.ndarray]
+    info: dict
+    cell_size: tuple[float, float] = (1.0, 1.0)
+
+    @property
+    def count(self) -> int:
+        return len(self.alpha)
+
+
+class ZoneLayouts:
+    """Memoized layouts of a surface for one zoning spec (None: a single zone)."""
+
+    def __init__(self, surface, tools, spec: ZoningSpec | None, h_c: float | None,
+                 feed_angle: float | None):
+        self.surface, self.tools = surface, tools
+        self.spec = spec or ZoningSpec()
+        self.method = get_method(self.spec.method)
+        self.settings = self.method.settings(self.spec.settings)
+        self.gene = None if self.method.gene is None else self.method.gene.name
+        self.single = self.method.name == "single" and feed_angle is not None
+        self.h_c = 0.254 if h_c is None else float(h_c)
+        self.feed_angle = feed_angle
+        self.mesh = check_mesh(*self.spec.mesh)
+        self._features = self._samples = None
+        self._memo: dict = {}
+
+    @property
+    def features(self):
+        if self._features is None:
+            self._features = mesh_features(self.surface, *self.mesh)
+        return self._features
+
+    @property
+    def samples(self):
+        if self._samples is None:
+            self._samples = sample_surface(self.surface)
+        return self._samples
+
+    def key(self, value):
+        """The gene value as the method's setting (an int for an integer gene)."""
+        if self.gene is None:
+            return None
+        return int(round(float(value))) if self.method.gene.integer else round(float(value), 9)
+
+    def get(self, value, tool: int) -> ZoneLayout:
+        """The layout of one gene value and tool index (memoized)."""
+        key = (self.key(value), int(tool))
+        if key not in self._memo:
+            self._memo[key] = self._layout(key[0], ScallopTarget(self.tools.cutter(tool),
+                                                                 self.h_c))
+        return self._memo[key]
+
+    # ---------------------------------------------------------------------------------
+    def _labels(self, value, target):
+        settings = self.settings.model_dump()
+        if self.gene is not None:
+            settings[self.method.gene.setting] = value
+        labels, info = self.method.labels(self.features, self.method.settings(settings),
+                                          seed=self.spec.seed)
+        if self.spec.merge is not None and labels.max() > 0:
+            cell_of = self.samples.cell(*self.mesh)
+
+            def zone_length(mask):  # Eq. 4 term of one candidate zone at its best direction
+                sub = self.samples.take(mask.ravel()[cell_of])
+                return self._direction(sub, mask, target)[1].length
+
+            labels, info["merge"] = merge_zones(labels, self.features, self.spec.merge,
+                                                self.spec.delta_l, zone_length)
+        return labels, info
+
+    def _direction(self, sub, mask, target):
+        if self.feed_angle is not None:
+            alpha = float(np.radians(self.feed_angle)) % np.pi
+            return alpha, zone_passes(sub, target, alpha)
+        f = self.features
+        start = axial_mean(f.steepest[mask], (f.area * np.sin(f.slope))[mask])
+        best = optimize_direction(sub, target, start)
+        return best.alpha, best.passes
+
+    def _layout(self, value, target) -> ZoneLayout:
+        labels, info = self._labels(value, target)
+        cell_of = self.samples.cell(*self.mesh)
+        zone_of = labels.ravel()[cell_of]
+        sampling = self.cell_size
+        alpha, planes, extent, distance = [], [], [], []
+        for z in range(int(labels.max()) + 1):
+            mask = labels == z
+            sub = self.samples.take(zone_of == z)
+            a, passes = self._direction(sub, mask, target)
+            off = -np.sin(a) * sub.x + np.cos(a) * sub.y
+            alpha.append(a)
+            planes.append(np.asarray(passes.s, float))
+            extent.append((float(off.min()), float(off.max())))
+            distance.append(ndimage.distance_transform_edt(~mask, sampling=sampling))
+        return ZoneLayout(labels, alpha, planes, extent, distance, info, sampling)
+
+    @property
+    def cell_size(self) -> tuple[float, float]:
+        """Mean XY size (mm) of a mesh cell along u and along v (the distance fields' unit)."""
+        n, m = self.mesh
+        t = (np.arange(33) + 0.5) / 33
+        uu, vv = np.meshgrid(t, t, indexing="ij")
+        jet = self.surface.jet(uu.ravel(), vv.ravel(), order=1)
+        return (float(np.linalg.norm(jet.su[:, :2], axis=1).mean()) / n,
+                float(np.linalg.norm(jet.sv[:, :2], axis=1).mean()) / m)
