@@ -1,0 +1,191 @@
+"""The analytic criteria of a PlanBatch: today's simulator numbers on the single-zone 5-axis
+case, finite values, lengths measured on the plan's points, the link / inter-zone split,
+Djebali Eq. 4, and the scallop against its closed form on planes."""
+
+import numpy as np
+import pytest
+from toolpath_analytic import Plane
+
+from evoplan.problems.toolpath.criteria.analytic import ANALYTIC, analytic_criteria
+from evoplan.problems.toolpath.criteria.table import CRITERIA
+from evoplan.problems.toolpath.geometry.surface import fountas_surface, unit_normal
+from evoplan.problems.toolpath.plan.batch import PlanBatch
+from evoplan.problems.toolpath.plan.orientation import travel_tangent
+from evoplan.problems.toolpath.plan.pattern import cc_pattern_batch
+from evoplan.problems.toolpath.simulator import ToolpathSimulator
+from evoplan.problems.toolpath.tools import parse_tools
+
+TABLE2 = np.array([[5, 30.791, 3.379, 0.040, 8.451],   # Fountas Table 2, GA (tool 6: index 5)
+                   [5, 41.729, 2.957, 0.027, 6.338]])  # VEGA
+OPTIONS = dict(allowance=0.5, feed_rate=1000.0, delta_l=40.0)
+
+
+def _genes(X, five_axis=True):
+    genes = {"tool": X[:, 0].astype(int), "stepover": X[:, 1], "step": X[:, 4]}
+    return genes | ({"lead": X[:, 2], "tilt": X[:, 3]} if five_axis else {})
+
+
+def _random(n, seed, n_tools=9):
+    rng = np.random.default_rng(seed)
+    return np.column_stack([rng.integers(0, n_tools, n), rng.uniform(20, 45, n),
+                            rng.uniform(0, 5, n), rng.uniform(0, 2, n), rng.uniform(5, 10, n)])
+
+
+def _plans(sim, X):
+    """Single-zone PlanBatch of the simulator's zig-zag patterns, in machining order (odd
+    passes reversed), built from ``plan.pattern.cc_pattern_batch``."""
+    g = sim.decode(X)
+    pb = cc_pattern_batch(sim.geometry, g["delta"], g["step"], sim.tolerance, sim.max_rounds)
+    rev = pb.pass_k % 2 == 1
+
+    def machining_order(owner, start, count):
+        pos = np.arange(len(owner)) - start[owner]
+        at = start[owner] + np.where(rev[owner], count[owner] - 1 - pos, pos)
+        order = np.empty(len(owner), int)
+        order[at] = np.arange(len(owner))
+        return order
+
+    order = machining_order(pb.pt_pass, pb.pass_start, pb.pass_count)
+    n_seg = pb.pass_count - 1
+    seg_order = machining_order(pb.seg_pass, np.cumsum(n_seg) - n_seg, n_seg)
+    n_int = np.bincount(pb.pass_ind, minlength=pb.n) - 1
+    side = np.where(n_int[pb.pass_ind] == 0, 0, np.where(pb.pass_k == n_int[pb.pass_ind], -1, 1))
+    alpha = np.full(len(pb.pass_d), np.arctan2(sim.geometry.f[1], sim.geometry.f[0]))
+    u, v, pt_sec = pb.u[order], pb.v[order], pb.pt_pass[order]
+    normal = unit_normal(sim.surface.jet(u, v, order=1), sim.surface.normal_sign)
+    tangent = travel_tangent(normal, alpha[pt_sec], rev[pt_sec])
+    return PlanBatch(
+        n=pb.n, zones=np.ones(pb.n, int), sec_ind=pb.pass_ind, sec_zone=0 * pb.pass_k,
+        sec_pass=pb.pass_k, sec_d=pb.pass_d, sec_alpha=alpha, sec_reverse=rev,
+        sec_spacing=pb.pass_spacing, sec_side=side, sec_start=pb.pass_start,
+        sec_count=pb.pass_count, pt_sec=pt_sec, u=u, v=v, p=pb.p[order], normal=normal,
+        tangent=tangent, axis=normal, tip=None, chord=pb.chord[order],
+        on_part=np.ones(len(u), bool), seg_sec=pb.seg_pass[seg_order],
+        seg_err=pb.seg_err[seg_order], seg_len=pb.seg_len[seg_order])
+
+
+@pytest.fixture(scope="module")
+def fountas():
+    surface, tools = fountas_surface(), parse_tools()
+    return surface, tools, ToolpathSimulator(surface, tools)
+
+
+@pytest.mark.parametrize("X", [TABLE2, _random(40, seed=7)], ids=["table2", "random"])
+def test_single_zone_5axis_equals_the_simulator(fountas, X):
+    surface, tools, sim = fountas
+    old = sim.criteria(X)
+    new = analytic_criteria(_plans(sim, X), surface, tools, _genes(X), **OPTIONS)
+    assert set(old) <= set(new)
+    for name in old:
+        np.testing.assert_allclose(new[name], old[name], rtol=1e-9, atol=0, err_msg=name)
+    assert np.all(new["zones"] == 1) and np.all(new["interzone_length"] == 0)
+    np.testing.assert_allclose(new["eq4_total"], new["cutting_length"], rtol=1e-15)
+    assert np.array_equal(new["n_sections"], new["n_passes"])
+
+
+def test_every_criterion_is_finite_where_it_may_be_weighted(fountas):
+    surface, tools, sim = fountas
+    X = _random(30, seed=3)
+    batch = _plans(sim, X)
+    for five_axis in (True, False):
+        crit = analytic_criteria(batch, surface, tools, _genes(X, five_axis), **OPTIONS)
+        assert tuple(crit) == ANALYTIC
+        for name, values in crit.items():
+            assert values.shape == (30,), name
+            assert np.all(np.isfinite(values)) or not CRITERIA[name].weightable, name
+            assert np.all(values >= 0) or name == "r_eff", name
+        assert np.all(crit["scallop_max"] <= 0.5)  # capped at the allowance
+        assert np.all(crit["scallop_max"] + crit["gouge_max"] > 0)  # no gap is exact
+    flat = X[:, 0] < 6  # flat-end and toroidal tools at zero lead and tilt: a flat bottom
+    crit = analytic_criteria(batch, surface, tools, _genes(X) | {"lead": 0 * X[:, 2],
+                             "tilt": 0 * X[:, 3]}, **OPTIONS)
+    assert np.all(np.isinf(crit["r_eff"][flat])) and np.all(np.isfinite(crit["r_eff"][~flat]))
+
+
+def test_cutting_length_is_the_length_of_the_sections_polylines(fountas):
+    surface, tools, sim = fountas
+    X = _random(6, seed=11)
+    batch = _plans(sim, X)
+    crit = analytic_criteria(batch, surface, tools, _genes(X), **OPTIONS)
+    expected, links = np.zeros(6), np.zeros(6)
+    for s in range(len(batch.sec_ind)):
+        pts = batch.p[batch.sec_start[s]:batch.sec_start[s] + batch.sec_count[s]]
+        expected[batch.sec_ind[s]] += np.linalg.norm(np.diff(pts, axis=0), axis=1).sum()
+        if s + 1 < len(batch.sec_ind) and batch.sec_ind[s + 1] == batch.sec_ind[s]:
+            links[batch.sec_ind[s]] += np.linalg.norm(batch.p[batch.sec_start[s + 1]] - pts[-1])
+    np.testing.assert_allclose(crit["cutting_length"], expected, rtol=1e-12)
+    np.testing.assert_allclose(crit["link_length"], links, rtol=1e-12)
+    np.testing.assert_allclose(crit["machining_time"],
+                               (crit["cutting_length"] + crit["link_length"]) / 1000.0, rtol=1e-12)
+
+
+def _hand_batch(sections, spacing):
+    """PlanBatch on the plane z = 0 over [0, 100] x [0, 60] from sections given as
+    (individual, zone, pass, y, xs in travel order, side)."""
+    secs, pts = [], []
+    for ind, zone, k, y, xs, side in sections:
+        secs.append((ind, zone, k, y, xs[-1] < xs[0], side, len(pts), len(xs)))
+        pts += [(len(secs) - 1, x, y) for x in xs]
+    si, sz, sk, sy, rev, side, start, count = (np.array(c) for c in zip(*secs))
+    pt_sec, x, y = (np.array(c) for c in zip(*pts))
+    p = np.column_stack([x, y, 0 * x])
+    last = np.r_[pt_sec[1:] != pt_sec[:-1], True]
+    seg = np.flatnonzero(~last)
+    n = int(si.max()) + 1
+    return PlanBatch(
+        n=n, zones=np.array([sz[si == i].max() + 1 for i in range(n)]), sec_ind=si, sec_zone=sz,
+        sec_pass=sk, sec_d=sy.astype(float), sec_alpha=np.zeros(len(si)), sec_reverse=rev,
+        sec_spacing=np.full(len(si), spacing), sec_side=side, sec_start=start, sec_count=count,
+        pt_sec=pt_sec, u=x / 100.0, v=y / 60.0, p=p, normal=np.tile([0.0, 0, 1], (len(x), 1)),
+        tangent=np.column_stack([np.where(rev[pt_sec], -1.0, 1.0), 0 * x, 0 * x]),
+        axis=np.tile([0.0, 0, 1], (len(x), 1)), tip=p, chord=np.zeros(len(x)),
+        on_part=np.ones(len(x), bool), seg_sec=pt_sec[seg], seg_err=np.zeros(len(seg)),
+        seg_len=np.linalg.norm(p[seg + 1] - p[seg], axis=1))
+
+
+def test_links_inside_a_zone_and_moves_between_zones():
+    sections = [  # individual 0: two zones of two passes; individual 1: one zone
+        (0, 0, 0, 10, [0, 20, 40], 1), (0, 0, 1, 14, [40, 20, 0], -1),
+        (0, 1, 0, 10, [60, 80, 100], 1), (0, 1, 1, 14, [100, 80, 60], -1),
+        (1, 0, 0, 10, [0, 50, 100], 1), (1, 0, 1, 14, [100, 50, 0], -1)]
+    tools = parse_tools([{"diameter": 16, "corner_radius": 8}])
+    genes = {"tool": np.zeros(2, int), "lead": np.zeros(2), "tilt": np.zeros(2)}
+    crit = analytic_criteria(_hand_batch(sections, 4.0), Plane(), tools, genes, **OPTIONS)
+    np.testing.assert_allclose(crit["cutting_length"], [160.0, 200.0])
+    np.testing.assert_allclose(crit["link_length"], [8.0, 4.0])
+    np.testing.assert_allclose(crit["interzone_length"], [np.hypot(60.0, 4.0), 0.0])
+    np.testing.assert_allclose(crit["path_length"], [168.0 + np.hypot(60.0, 4.0), 204.0])
+    np.testing.assert_allclose(crit["eq4_total"], [160.0 + 40.0, 200.0])  # Djebali Eq. 4
+    assert np.array_equal(crit["zones"], [2, 1]) and np.array_equal(crit["n_passes"], [4, 2])
+    assert np.array_equal(crit["cc_count"], [12, 6])
+    h = 8.0 - np.sqrt(64.0 - 2.0 ** 2)  # ball R 8, w 4 on a plane
+    np.testing.assert_allclose(crit["scallop_max"], h, rtol=1e-3)
+    np.testing.assert_allclose(crit["scallop_mean"], h, rtol=1e-3)
+    assert np.all(crit["gouge_max"] == 0)
+
+
+@pytest.mark.parametrize("slope", [0.0, 0.5])
+def test_ball_scallop_on_a_plane_is_the_closed_form(slope):
+    """Ball R 6, XY step-over delta across a plane rising along the cross-feed: the CC points
+    are delta / cos(atan slope) apart on the surface, h = R - sqrt(R^2 - (w/2)^2), in 5-axis
+    (profile tables) and in 3-axis (circle model, exact for a ball)."""
+    tools = parse_tools([{"diameter": 12, "corner_radius": 6}])
+    surface = Plane(b=slope)
+    sim = ToolpathSimulator(surface, tools)
+    X = np.array([[0, 20.0, 0.0, 0.0, 8.0], [0, 35.0, 0.0, 0.0, 8.0]])
+    batch = _plans(sim, X)
+    w = X[:, 1] / 100 * 12 * np.sqrt(1 + slope ** 2)
+    h = 6.0 - np.sqrt(36.0 - (w / 2) ** 2)
+    for five_axis, rtol in ((True, 1e-3), (False, 1e-12)):
+        crit = analytic_criteria(batch, surface, tools, _genes(X, five_axis), **OPTIONS)
+        np.testing.assert_allclose(crit["scallop_max"], h, rtol=rtol)
+        np.testing.assert_allclose(crit["machining_error"], h, rtol=rtol)
+        assert np.all(crit["gouge_max"] == 0) and np.all(crit["r_eff"] == 6.0)
+
+
+def test_a_zone_of_one_plane_leaves_no_modelled_scallop():
+    tools = parse_tools([{"diameter": 12, "corner_radius": 6}])
+    batch = _hand_batch([(0, 0, 0, 10, [0, 50, 100], 0)], 4.0)
+    crit = analytic_criteria(batch, Plane(), tools, {"tool": np.zeros(1, int)}, **OPTIONS)
+    assert crit["scallop_max"][0] == 0 and crit["link_length"][0] == 0
+    assert crit["n_passes"][0] == 1 and crit["cutting_length"][0] == 100.0

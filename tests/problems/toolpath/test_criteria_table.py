@@ -1,0 +1,88 @@
+"""The one table of criteria drives every list: weights, objectives, bounds, the simulated
+names and the documentation's table."""
+
+import importlib.util
+from pathlib import Path
+
+import numpy as np
+import pytest
+from toolpath_analytic import Plane
+
+from evoplan.problems.toolpath.criteria.objective import (
+    parse_bounds, parse_objectives, parse_weights, weighted_sum,
+)
+from evoplan.problems.toolpath.criteria.simulated import SimulatedCriteria
+from evoplan.problems.toolpath.criteria.table import CRITERIA, names
+from evoplan.problems.toolpath.simulator import ToolpathSimulator
+from evoplan.problems.toolpath.tools import parse_tools
+
+ROOT = Path(__file__).resolve().parents[3]
+
+
+def _error(fn, *args) -> str:
+    with pytest.raises(ValueError) as info:
+        fn(*args)
+    return str(info.value)
+
+
+def test_weights_accept_exactly_the_weightable_criteria_of_the_table():
+    accepted = []
+    for name in CRITERIA:
+        try:
+            accepted.append(next(iter(parse_weights({name: 1.0}))))
+        except ValueError as err:
+            line = str(err)
+            assert line.startswith(f"weights.{name}: {name} cannot be weighted"), line
+            assert "\n" not in line
+    assert tuple(accepted) == names(weightable=True)
+    assert {"r_eff", "objective"} == set(CRITERIA) - set(accepted)
+    assert {"zones", "link_length", "interzone_length", "eq4_total"} <= set(accepted)
+
+
+def test_unknown_weights_and_objectives_are_refused_in_one_line():
+    line = _error(parse_weights, {"speed": 0.5, "cc_count": 0.5})
+    assert line.startswith("weights.speed: unknown criterion 'speed' (known: cc_count, ")
+    assert "r_eff" not in line and "\n" not in line
+    assert _error(parse_objectives, ["cc_count", "r_eff"]).startswith(
+        "objectives[1]: r_eff cannot be weighted")
+    assert _error(parse_objectives, "cc_count").startswith("objectives: expected a list")
+    assert _error(parse_bounds, {"r_eff": [0, 1]}, ["cc_count"]).startswith(
+        "normalization.r_eff: not a weighted criterion")
+
+
+def test_the_old_total_length_is_the_eq4_total():
+    assert parse_weights({"total_length": 0.25, "cc_count": 0.75}) == {
+        "eq4_total": 0.25, "cc_count": 0.75}
+    assert parse_objectives(["total_length", "machining_time"]) == ["eq4_total", "machining_time"]
+    assert parse_bounds({"total_length": [100, 200]}, ["eq4_total"]) == {"eq4_total": (100, 200)}
+    assert _error(parse_weights, {"total_length": 0.5, "eq4_total": 0.5}) == (
+        "weights.eq4_total: eq4_total is given twice")
+    crit = {"eq4_total": np.array([100.0, 150.0, 200.0])}
+    w = parse_weights({"total_length": 1.0})
+    np.testing.assert_allclose(weighted_sum(crit, w, {"eq4_total": (100.0, 200.0)}), [0, 0.5, 1])
+
+
+def test_the_cut_simulation_measures_the_criteria_flagged_simulated():
+    tools = parse_tools([{"diameter": 12, "corner_radius": 0}])
+    surface = Plane(0.0, 30.0, 0.0, 20.0)
+    path = ToolpathSimulator(surface, tools).cl_path([0, 40.0, 0.0, 3.0, 10.0])
+    measured = SimulatedCriteria(surface, {"grid_mm": 1.0}).measure(path, flat=True)
+    assert tuple(measured) == names(simulated=True)
+    assert measured["undercut_max"] == measured["scallop_max"] > 0  # the rim's saw-tooth
+    assert all(CRITERIA[name].weightable for name in measured)
+
+
+def test_the_documentation_table_lists_every_criterion():
+    spec = importlib.util.spec_from_file_location(
+        "criteria_table_hook", ROOT / "docs" / "_hooks" / "criteria_table.py")
+    hook = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(hook)
+    page = (ROOT / "docs/criteria.md").read_text()
+    assert hook.MARKER in page
+    rendered = hook.on_page_markdown(page, None, None, None)
+    rows = [line for line in rendered.splitlines() if line.startswith("| `")]
+    assert [row.split("`")[1] for row in rows] == list(CRITERIA)
+    for row in rows:
+        name = row.split("`")[1]
+        assert row.split(" | ")[2] == ("yes" if CRITERIA[name].weightable else "no"), row
+    assert "| `eq4_total` (alias `total_length`) | mm | yes |" in rendered
