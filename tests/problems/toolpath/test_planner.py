@@ -1,0 +1,124 @@
+"""The one planner: decisions -> zones -> passes -> CC points -> orientation -> CL points."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from evoplan.problems.toolpath.geometry.spec import parse_surface
+from evoplan.problems.toolpath.plan.planner import Planner
+from evoplan.problems.toolpath.plan.zones import ZoningSpec
+from evoplan.problems.toolpath.simulation import design_grid, residual_metrics, sweep_path
+from evoplan.problems.toolpath.tools import parse_tools
+
+TORUS = [{"id": 1, "type": "toroidal", "diameter": 6.35, "corner_radius": 1.0}]
+H_C = 0.254
+
+
+def _two_planes():
+    """z = 0.3 x + 0.6 |y - 50| over [0, 50] x [0, 100]: two planes meeting in a valley
+    along y = 50, steepest slopes at 116.6 deg (y < 50) and 63.4 deg (y > 50)."""
+    x, y = np.linspace(0, 50, 3), np.array([0.0, 50.0, 100.0])
+    X, Y = np.meshgrid(x, y, indexing="ij")
+    net = np.stack([X, Y, 0.3 * X + 0.6 * np.abs(Y - 50)], axis=-1)
+    return parse_surface({"type": "bspline", "degree": [1, 1], "poles": net.tolist()})
+
+
+def _one(**genes):
+    return {k: np.atleast_1d(np.asarray(v)) for k, v in genes.items()}
+
+
+def test_two_plane_surface_gives_two_zones_each_fed_along_its_slope():
+    surface = _two_planes()
+    planner = Planner(surface, parse_tools(TORUS), machine="3axis", spacing="scallop", h_c=H_C,
+                      feed_angle=None, zoning=ZoningSpec("amas", mesh=(20, 20), merge=None))
+    batch = planner.plan(_one(tool=0, step=2.0, k_lz=0.15), place=False)
+    assert batch.zones.tolist() == [2]
+    labels = planner.layouts.get(0.15, 0).labels
+    assert len(np.unique(labels[:, :10])) == 1 and len(np.unique(labels[:, 10:])) == 1
+    assert labels[0, 0] != labels[0, -1]  # the zones are the two planes (v < 1/2, v > 1/2)
+    slope_dir = {int(labels[0, 0]): 180 - 63.43, int(labels[0, -1]): 63.43}
+    for z, expected in slope_dir.items():
+        got = np.degrees(batch.sec_alpha[batch.sec_zone == z])
+        assert np.allclose(got, got[0]) and abs(got[0] - expected) < 2.0, (z, got[0])
+
+
+def test_single_zone_points_follow_the_max_step_and_the_chord_tolerance():
+    surface = parse_surface("fountas")
+    planner = Planner(surface, parse_tools(None), machine="5axis", tolerance=0.01)
+    rng = np.random.default_rng(3)
+    n = 6
+    genes = dict(tool=rng.integers(0, 9, n), stepover=rng.uniform(20, 45, n),
+                 lead=rng.uniform(0, 5, n), tilt=rng.uniform(0, 2, n), step=rng.uniform(5, 10, n))
+    b = planner.plan(genes)
+    assert b.zones.tolist() == [1] * n
+    assert np.all(b.seg_len <= genes["step"][b.seg_ind] + 1e-9)
+    assert np.all(b.seg_err <= 0.01 + 1e-12)
+    # zig-zag: consecutive passes of one plan travel in opposite directions along the feed
+    for i in range(n):
+        s = np.flatnonzero(b.sec_ind == i)
+        assert np.array_equal(b.sec_reverse[s], np.arange(len(s)) % 2 == 1)
+        assert np.all(np.diff(b.sec_d[s]) > 0)
+        t = b.tangent[b.sec_start[s]]
+        assert np.all(np.sign(t[:, 0]) == np.where(b.sec_reverse[s], -1, 1))
+
+
+def test_5axis_axis_has_the_lead_and_tilt_angles():
+    surface = parse_surface("fountas")
+    planner = Planner(surface, parse_tools(None), machine="5axis")
+    b = planner.plan(_one(tool=5, stepover=30.0, lead=4.0, tilt=1.5, step=8.0))
+    a, n, t = b.axis, b.normal, b.tangent
+    lead = np.degrees(np.arcsin(np.sum(a * t, axis=1)))
+    tilt = np.degrees(np.arctan2(np.sum(a * np.cross(n, t), axis=1), np.sum(a * n, axis=1)))
+    assert np.allclose(lead, 4.0) and np.allclose(tilt, 1.5)
+    # the tool touches the surface at the CC point: the tip is the tangent placement
+    cutter = parse_tools(None).cutter(5)
+    assert np.allclose(b.tip, cutter.cc_to_tip(b.p, n, a))
+
+
+def test_claimed_cut_length_is_the_length_of_the_sections_of_the_cl_path():
+    planner = Planner(parse_surface("choi"), parse_tools(TORUS), machine="3axis",
+                      spacing="stepover", feed_angle=None,
+                      zoning=ZoningSpec("kmeans", mesh=(24, 24)))
+    genes = _one(tool=0, stepover=60.0, step=1.5, zones=3)
+    b = planner.plan(genes, place=False)
+    path = planner.cl_path(genes)
+    cc, sec = path.info["cc"], path.section
+    same = sec[1:] == sec[:-1]
+    cut = float(np.linalg.norm(np.diff(cc, axis=0), axis=1)[same].sum())
+    # the CL chord tolerance inserts points on the same section curves: the length grows
+    # only by the curve-versus-chord difference (second order)
+    assert cut == pytest.approx(float(b.seg_len.sum()), rel=2e-3)
+    assert len(np.unique(path.zone)) == b.zones[0] >= 2
+
+
+@pytest.fixture(scope="module")
+def choi_grid():
+    return design_grid(parse_surface("choi"), 0.5)
+
+
+@pytest.mark.parametrize("method, genes", [("single", {}), ("kmeans", {"zones": 2})])
+def test_scallop_spacing_plans_meet_h_c_in_the_cut_simulation(choi_grid, method, genes):
+    """The physical claim: a plan spaced for h_c leaves p99 under h_c, cuts every cell and
+    does not gouge (drop-cutter placement, CL chord tolerance 0.01 mm)."""
+    planner = Planner(parse_surface("choi"), parse_tools(TORUS), machine="3axis", spacing="scallop", h_c=H_C,
+                      feed_angle=None, zoning=ZoningSpec(method, mesh=(40, 40)))
+    path = planner.cl_path({"tool": [0], "step": [1.0], **{k: [v] for k, v in genes.items()}})
+    m = residual_metrics(choi_grid, sweep_path(path, choi_grid).values, allowance=0.5)
+    assert m["scallop_p99_mm"] < H_C
+    assert m["uncut_fraction"] < 0.005
+    assert m["gouge_max_mm"] < 0.01
+
+
+def test_missing_gene_and_bad_settings_are_one_line_errors():
+    planner = Planner(parse_surface("fountas"), parse_tools(None))
+    assert planner.gene_names == ("tool", "stepover", "lead", "tilt", "step")
+    with pytest.raises(ValueError, match="genes: missing lead, tilt"):
+        planner.plan(_one(tool=0, stepover=30.0, step=5.0))
+    with pytest.raises(ValueError, match="^spacing: "):
+        Planner(parse_surface("fountas"), parse_tools(None), spacing="adaptive")
+    with pytest.raises(ValueError, match="^machine: "):
+        Planner(parse_surface("fountas"), parse_tools(None), machine="4axis")
+    three = Planner(parse_surface("choi"), parse_tools(TORUS), machine="3axis",
+                    spacing="scallop", h_c=H_C, zoning=ZoningSpec("kmeans"))
+    assert three.gene_names == ("tool", "step", "zones")
