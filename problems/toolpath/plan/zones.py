@@ -10,7 +10,7 @@ evaluations mostly hit this memo):
    ``evoplan zone`` does;
 2. per zone, the feed direction: the configured angle, or Herraz Eq. 3 (the zone's
    cutting length at h_c minimized over the direction, ``zoning/direction.py``) started
-   from the zone's steepest-slope direction;
+   from the zone's steepest-slope direction, rounded to the ``ALPHA_STEP_DEG`` grid;
 3. per zone, the adaptive planes at h_c (``zoning/passes.py``: each plane as far from the
    previous one as the worst point of its pass allows), the zone's extent across its feed,
    and its distance field: the XY distance (mm) from every mesh cell to the zone, which
@@ -32,7 +32,11 @@ from .zoning.passes import zone_passes
 from .zoning.samples import sample_surface
 from .zoning.stepover import ScallopTarget
 
-__all__ = ["ZoningSpec", "ZoneLayout", "ZoneLayouts"]
+__all__ = ["ZoningSpec", "ZoneLayout", "ZoneLayouts", "ALPHA_STEP_DEG"]
+
+#: optimized feed directions are rounded to this grid (degrees): the search resolves no finer
+#: (its tolerance), and layouts that share a direction share its pass-plane tables
+ALPHA_STEP_DEG = 0.5
 
 
 @dataclass(frozen=True)
@@ -137,8 +141,11 @@ class ZoneLayouts:
             return alpha, zone_passes(sub, target, alpha)
         f = self.features
         start = axial_mean(f.steepest[mask], (f.area * np.sin(f.slope))[mask])
-        best = optimize_direction(sub, target, start)
-        return best.alpha, best.passes
+        best = optimize_direction(sub, target, start, xatol_deg=ALPHA_STEP_DEG)
+        # on the direction grid: the pass-plane tables are then shared between layouts
+        alpha = float(np.radians(ALPHA_STEP_DEG * round(np.degrees(best.alpha) / ALPHA_STEP_DEG)))
+        alpha %= np.pi
+        return alpha, zone_passes(sub, target, alpha)
 
     def _layout(self, value, target) -> ZoneLayout:
         labels, info = self._labels(value, target)
