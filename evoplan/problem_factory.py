@@ -26,7 +26,7 @@ from .space import Categorical, Integer, Real, Space
 PROBLEMS: dict[str, str] = {
     "kubota": "evoplan.problems.benchmarks:Kubota",
     "toolpath": "evoplan.problems.toolpath:ToolpathProblem",
-    "toolpath_zoning": "evoplan.problems.toolpath.plan.zoning.problem:ZonedToolpathProblem",
+    "toolpath_zoning": "evoplan.problems.toolpath.zoned:ZonedToolpathProblem",  # a toolpath config
 }
 
 
@@ -142,6 +142,10 @@ def build_space(problem: Problem, bits: int = 23, gray: bool = False,
     by_name = {v.name: i for i, v in enumerate(variables)}
     for name, o in (overrides or {}).items():
         if name not in by_name:
+            fixed = getattr(problem, "fixed", None)
+            if isinstance(fixed, dict) and name in fixed:
+                raise ValueError(f"variables.{name}: fixed at {fixed[name]:g} by the problem's params "
+                                 f"(fixed.{name}): not a variable, so it has no bits")
             raise ValueError(f"variables.{name}: no such variable (the problem has {', '.join(by_name)})")
         v = variables[by_name[name]]
         changes = {k: getattr(o, k) for k in ("low", "high", "bits") if getattr(o, k) is not None}

@@ -1,107 +1,90 @@
-"""``ToolpathProblem``: the toolpath simulator as a batched pymoo problem (Fountas et al.).
+"""``ToolpathProblem``: the one toolpath engine as a batched pymoo problem.
 
-Chromosome X (n, 5) float, one row per parameter set:
+A row of the chromosome is a set of decisions (``genes.py``): the tool, the step-over, the
+lead and tilt, the discretization step and the zoning method's gene (K or k_LZ); which of
+them exist is set by the strategy (``strategy.py``: machine, spacing, zoning) and any of
+them may be fixed in the config. One evaluation of a population:
 
-    col  name      meaning                                           default range
-    0    tool      INDEX into the tool database (rounded)            0 .. n_tools - 1
-    1    stepover  % of the tool diameter, XY spacing of the planes  [20, 45]
-    2    lead      degrees, about the cross-feed axis                [0, 5]
-    3    tilt      degrees, about the feed                           [0, 2]
-    4    step      maximum discretization step, mm                   [5, 10]
+    X -> genes (tool as an index, fixed genes inserted) -> Planner.plan -> PlanBatch
+      -> analytic criteria (criteria/analytic.py), or under ``criteria: simulated`` the
+         scallop, gouge and machining error measured by the cut simulation per plan
+      -> F: Fountas Eq. 9, the weighted sum of criteria normalized by FIXED bounds
+         (criteria/objective.py; the bounds from a seeded design over the free genes),
+         or with ``objectives`` the normalized criteria themselves (a Pareto front).
 
-Fountas prints the step range as "[0.005-0.01]" and Table 2 as "x 10^-3 mm"; with those
-values a pass of ~96 mm would hold ~10^4 points, not the reported 289-337 CC points in
-total, so they are metres: 5-10 mm. ``variables`` maps the names to pymoo variables
-(``tool`` as a Choice over the tool IDS); ``xl``/``xu`` are the numeric bounds above.
-
-F: (n, 1) the weighted sum of normalized criteria (Eq. 9, ``objective.py``), or with
-``objectives=[names]`` (n, k) the normalized criteria themselves (for a Pareto front).
-:meth:`criteria` returns every raw criterion; :meth:`pattern` one toolpath's CC pattern.
+With the defaults (Fountas' surface, nine tools, 5-axis, one zone fed along X, step-over
+spacing) the chromosome is Fountas' five genes, X (n, 5). Fountas prints the step range as
+"[0.005-0.01]" and Table 2 as "x 10^-3 mm"; with those values a pass of ~96 mm would hold
+~10^4 points, not the reported 289-337 CC points in total, so they are metres: 5-10 mm.
 """
 
 from __future__ import annotations
 
-import textwrap
+from functools import cached_property
 
 import numpy as np
 from pymoo.core.problem import Problem
-from pymoo.core.variable import Choice, Real
 
-from .checks import interval, number
+from .checks import number
+from .criteria.analytic import ANALYTIC, analytic_criteria
 from .criteria.objective import (
-    OBJECTIVE_CRITERIA, bounds_from_sample, normalization_design, normalize, parse_bounds,
-    parse_weights, weighted_sum,
+    bounds_from_sample, normalize, parse_bounds, parse_weights, weighted_sum,
 )
-from .simulator import ToolpathSimulator
+from .criteria.table import check_name
+from .genes import DEFAULT_RANGES, GENE_ORDER, PARAM_NAMES, GeneSpace
 from .geometry.spec import parse_surface
+from .strategy import absent_genes, build_planner
 from .tools import parse_tools
 
-__all__ = ["ToolpathProblem", "PARAM_NAMES", "DEFAULT_RANGES"]
-
-PARAM_NAMES = ("tool", "stepover", "lead", "tilt", "step")
-DEFAULT_RANGES = {"stepover": (20.0, 45.0), "lead": (0.0, 5.0), "tilt": (0.0, 2.0),
-                  "step": (5.0, 10.0)}
-
-
-def _ranges(spec) -> dict[str, tuple[float, float]]:
-    out = dict(DEFAULT_RANGES)
-    if spec is None:
-        return out
-    if not isinstance(spec, dict):
-        raise ValueError(f"ranges: expected a mapping name -> [lo, hi], got {spec!r}")
-    for name, b in spec.items():
-        key = f"ranges.{name}"
-        if name not in DEFAULT_RANGES:
-            raise ValueError(f"{key}: unknown parameter (known: {', '.join(DEFAULT_RANGES)})")
-        lo, hi = interval(b, key)
-        if name in ("stepover", "step") and lo <= 0:
-            raise ValueError(f"{key}: must be > 0, got {b!r}")
-        if name in ("lead", "tilt") and not (-90 < lo and hi < 90):
-            raise ValueError(f"{key}: angles must lie in (-90, 90) degrees, got {b!r}")
-        out[name] = (lo, hi)
-    return out
+__all__ = ["ToolpathProblem", "PARAM_NAMES", "GENE_ORDER", "DEFAULT_RANGES"]
 
 
 class ToolpathProblem(Problem):
-    """Zig-zag finishing of a free-form surface, evaluated by simulation (batched).
+    """Finishing of a free-form surface: plans of every decision set, judged by criteria.
 
-    All arguments are plain data (a YAML ``params:`` mapping): ``surface`` (see
-    ``spec.py``; default Fountas Eq. 14), ``tools`` (list of mappings, default the nine
-    tools of ``tools.py``), ``weights`` (criterion -> weight, default machining_error 0.5 +
-    cc_count 0.5), ``feed_rate`` mm/min (1000), ``tolerance`` cut tolerance mm (0.01),
-    ``feed_angle`` degrees from +X (0), ``ranges`` {stepover, lead, tilt, step: [lo, hi]},
-    ``allowance`` finishing stock mm (0.5), ``normalization`` explicit {criterion: [lo, hi]},
-    ``normalization_samples`` / ``seed`` for the fixed normalization design, ``objectives``
-    a list of criteria for a multi-objective F, ``base_dir`` for relative pole files,
-    ``criteria`` ``analytic`` (default) or ``simulated`` (scallop, gouge and machining error
-    measured by the cut simulation, ``criteria/simulated.py``, with ``simulation``
-    settings {grid_mm, rays, allowance}; the normalization design is simulated too).
+    All arguments are plain data (a YAML ``params:`` mapping). The part and tools:
+    ``surface`` (``geometry/spec.py``; default Fountas Eq. 14), ``tools`` (list of mappings,
+    default the nine tools of ``tools.py``), ``base_dir`` for relative pole files. The
+    strategy (``strategy.py``): ``machine`` 5axis | 3axis, ``placement`` (3-axis: drop | cc),
+    ``zoning`` {method: single | kmeans | amas, mesh, merge, settings, seed}, ``spacing``
+    stepover | scallop, ``h_c`` (mm; 0.254 with scallop spacing), ``delta_l`` (mm, Eq. 4),
+    ``feed_angle`` (degrees from +X, or ``optimized``), ``tolerance`` (chord, mm). The
+    decisions: ``ranges`` {gene: [lo, hi]}, ``fixed`` {gene: value} (the tool by its id).
+    The judgement: ``weights`` (criterion -> weight, default machining_error 0.5 + cc_count
+    0.5), ``objectives`` (a list of criteria: a multi-objective F), ``normalization``
+    {criterion: [lo, hi]} (given bounds; ``[0, 1]`` keeps a criterion's raw value),
+    ``normalization_samples`` / ``seed`` of the fixed design, ``feed_rate`` mm/min (1000),
+    ``allowance`` finishing stock mm (0.5), ``criteria`` analytic | simulated (with
+    ``simulation`` {grid_mm, rays, allowance}: scallop, gouge and machining error measured by
+    the cut simulation; the normalization design is simulated too).
     Bad input raises a one-line ValueError starting with the key path.
     """
 
-    def __init__(self, surface="fountas", tools=None, weights=None, feed_rate=1000.0,
-                 tolerance=0.01, feed_angle=0.0, ranges=None, allowance=0.5,
-                 normalization=None, normalization_samples=64, seed=0, objectives=None,
-                 base_dir=None, max_rounds=6, criteria="analytic", simulation=None):
+    def __init__(self, surface="fountas", tools=None, machine="5axis", placement=None,
+                 zoning=None, spacing="stepover", h_c=None, delta_l=40.0, feed_angle=0.0,
+                 tolerance=0.01, feed_rate=1000.0, allowance=0.5, weights=None,
+                 objectives=None, normalization=None, normalization_samples=64, seed=0,
+                 criteria="analytic", simulation=None, ranges=None, fixed=None,
+                 base_dir=None, max_rounds=6):
         surf = parse_surface(surface, "surface", base_dir)
         self.tool_db = parse_tools(tools, "tools")
+        self.machine = machine
+        self.planner = build_planner(surf, self.tool_db, machine=machine, placement=placement,
+                                     zoning=zoning, spacing=spacing, h_c=h_c, delta_l=delta_l,
+                                     feed_angle=feed_angle, tolerance=tolerance,
+                                     max_rounds=max_rounds)
+        self.delta_l = number(delta_l, "delta_l")
+        self.feed_rate = number(feed_rate, "feed_rate", positive=True)
+        self.allowance = number(allowance, "allowance", positive=True)
+        self.tolerance = self.planner.tolerance
+        layouts = self.planner.layouts
+        self.genes = GeneSpace(
+            self.planner.gene_names, self.tool_db, ranges, fixed,
+            absent=absent_genes(machine, spacing, layouts.method.name),
+            zone_gene=layouts.method.gene, zone_range=self._zone_range,
+            zone_value=self._zone_value)
         self.weights = parse_weights(weights, "weights")
-        angle = number(feed_angle, "feed_angle")
-        self.ranges = _ranges(ranges)
-        if objectives is not None:
-            if isinstance(objectives, str) or not objectives:
-                raise ValueError(f"objectives: expected a list of criteria, got {objectives!r}")
-            for name in objectives:
-                if name not in OBJECTIVE_CRITERIA:
-                    raise ValueError(f"objectives: unknown criterion {name!r} "
-                                     f"(known: {', '.join(OBJECTIVE_CRITERIA)})")
-            objectives = list(objectives)
-        self.objectives = objectives
-        self.simulator = ToolpathSimulator(
-            surf, self.tool_db, feed_angle=angle,
-            tolerance=number(tolerance, "tolerance", positive=True),
-            feed_rate=number(feed_rate, "feed_rate", positive=True),
-            allowance=number(allowance, "allowance", positive=True), max_rounds=int(max_rounds))
+        self.objectives = self._objectives(objectives)
         if criteria not in ("analytic", "simulated"):
             raise ValueError(f"criteria: expected analytic or simulated, got {criteria!r}")
         self.simulated = None
@@ -111,137 +94,160 @@ class ToolpathProblem(Problem):
             self.simulated = SimulatedCriteria(surf, simulation)
         elif simulation is not None:
             raise ValueError("simulation: only used with criteria: simulated")
-        n_tools = len(self.tool_db)
-        xl = np.array([0.0] + [self.ranges[k][0] for k in PARAM_NAMES[1:]])
-        xu = np.array([float(n_tools - 1)] + [self.ranges[k][1] for k in PARAM_NAMES[1:]])
-        self.variables = {
-            "tool": Choice(options=[int(i) for i in self.tool_db.ids]),
-            **{k: Real(bounds=self.ranges[k]) for k in PARAM_NAMES[1:]},
-        }
-        names = objectives if objectives is not None else list(self.weights)
+        self.variables = self.genes.variables
+        names = self.objectives if self.objectives is not None else list(self.weights)
         given = parse_bounds(normalization, names)
         missing = [k for k in names if k not in given]
         if missing:
-            design = normalization_design(n_tools, xl, xu, int(normalization_samples), int(seed))
+            design = self.genes.design(int(normalization_samples), int(seed))
             given.update(bounds_from_sample(self._raw_criteria(design), missing))
         self.norm_bounds = {k: given[k] for k in names}
-        super().__init__(n_var=5, n_obj=1 if objectives is None else len(objectives),
-                         xl=xl, xu=xu, vtype=float, vars=self.variables)
+        super().__init__(n_var=self.genes.n_var,
+                         n_obj=1 if self.objectives is None else len(self.objectives),
+                         xl=self.genes.xl, xu=self.genes.xu, vtype=float, vars=self.variables)
 
-    # ---------------------------------------------------------------------------------
+    # -- configuration ------------------------------------------------------------------
+    def _zone_range(self, value):
+        layouts = self.planner.layouts
+        try:
+            return layouts.method.gene_range(value, layouts.features)
+        except ValueError as e:
+            raise ValueError(f"ranges.{e}") from None
+
+    def _zone_value(self, value, key):
+        method = self.planner.layouts.method
+        try:
+            method.settings({method.gene.setting: int(value) if method.gene.integer else value})
+        except ValueError as e:
+            raise ValueError(f"{key}: {str(e).split(': ', 1)[-1]}") from None
+
+    @staticmethod
+    def _objectives(objectives):
+        if objectives is None:
+            return None
+        if isinstance(objectives, str) or not isinstance(objectives, (list, tuple)) \
+                or not objectives:
+            raise ValueError(f"objectives: expected a list of criteria, got {objectives!r}")
+        return [check_name(k, "objectives", weightable=True) for k in objectives]
+
+    @property
+    def fixed(self) -> dict:
+        """Fixed genes by name (the tool by its id): not variables of the chromosome."""
+        return {k: int(self.tool_db.ids[int(v)]) if k == "tool" else v
+                for k, v in self.genes.fixed.items()}
+
     @property
     def n_tools(self) -> int:
         return len(self.tool_db)
 
-    def check(self, X) -> np.ndarray:
-        """X as (n, 5) float; ValueError ``params.<name>: ...`` for a value out of range.
-        Rows may also be mappings name -> value (pymoo's mixed-variable form, ``vars``; the
-        tool given by its id)."""
-        if isinstance(X, dict) or (np.ndim(X) == 1 and len(X) and isinstance(X[0], dict)):
-            X = np.array([[self.tool_db.index_of(r["tool"])] + [r[k] for k in PARAM_NAMES[1:]]
-                          for r in ([X] if isinstance(X, dict) else X)], dtype=float)
-        X = np.asarray(X, dtype=float)
-        if X.size == 0:
-            return X.reshape(0, 5)
-        X = np.atleast_2d(X)
-        if X.ndim != 2 or X.shape[1] != 5:
-            raise ValueError(f"params: expected X of shape (n, 5), got {X.shape}")
-        bad = ~np.isfinite(X)
-        if bad.any():
-            i, j = np.argwhere(bad)[0]
-            raise ValueError(f"params.{PARAM_NAMES[j]}: not a finite number in row {i}")
-        lo = self.xl - np.r_[0.5, 1e-9 * np.maximum(1, np.abs(self.xl[1:]))]
-        hi = self.xu + np.r_[0.5 - 1e-9, 1e-9 * np.maximum(1, np.abs(self.xu[1:]))]
-        out = (X < lo) | (X >= hi) & (np.arange(5) == 0) | (X > hi) & (np.arange(5) > 0)
-        if out.any():
-            i, j = np.argwhere(out)[0]
-            rng = (f"0 .. {self.n_tools - 1} (a tool index)" if j == 0
-                   else f"[{self.xl[j]:g}, {self.xu[j]:g}]")
-            where = f" (row {i})" if len(X) > 1 else ""
-            raise ValueError(f"params.{PARAM_NAMES[j]}: {X[i, j]:g} outside {rng}{where}")
-        return X
-
-    def row(self, params) -> np.ndarray:
-        """One parameter set by name -> X row (1, 5). ``tool`` is the tool ID here (as in
-        ``--set tool=6``); the row holds its index. Range errors name ``params.<name>``."""
-        if not isinstance(params, dict):
-            return self.check(params)[:1]
-        unknown = set(params) - set(PARAM_NAMES)
-        if unknown:
-            raise ValueError(f"params.{sorted(unknown)[0]}: unknown parameter "
-                             f"(known: {', '.join(PARAM_NAMES)})")
-        missing = [k for k in PARAM_NAMES if k not in params]
-        if missing:
-            raise ValueError(f"params.{missing[0]}: missing")
-        x = [float(self.tool_db.index_of(params["tool"]))]
-        x += [number(params[name], f"params.{name}") for name in PARAM_NAMES[1:]]
-        return self.check(np.array([x]))
-
-    def _raw_criteria(self, X) -> dict[str, np.ndarray]:
-        """The analytic criteria of X (n, 5), with the simulated ones in place of the
-        analytic scallop, gouge and machining error under ``criteria: simulated``."""
-        crit = self.simulator.criteria(X)
-        if self.simulated is not None and len(X):
-            rows = []
-            for x in X:
-                sharp_rim = self.tool_db.cutter(int(round(x[0]))).sharp_rim
-                rows.append(self.simulated.measure(self.simulator.cl_path(x), sharp_rim))
-            for name in rows[0]:
-                crit[name] = np.array([row[name] for row in rows])
-        return crit
-
-    def criteria(self, X) -> dict[str, np.ndarray]:
-        """Every raw criterion per row of X (n, 5), plus ``objective`` (Eq. 9): dict of (n,)."""
-        crit = self._raw_criteria(self.check(X))
-        crit["objective"] = weighted_sum(crit, self.weights, self.norm_bounds) if self.objectives is None \
-            else np.full(len(crit["cc_count"]), np.nan)
-        return crit
-
-    def evaluate_params(self, params) -> dict[str, float]:
-        """Every criterion (floats) of ONE parameter set, given by name (tool = tool id)."""
-        crit = self.criteria(self.row(params))
-        return {k: float(v[0]) for k, v in crit.items()}
-
-    def pattern(self, params):
-        """The CC pattern (``simulator.CCPattern``) of one parameter set (mapping or row)."""
-        return self.simulator.pattern(self.row(params)[0])
+    @property
+    def ranges(self) -> dict:
+        """The free continuous genes' ranges."""
+        return dict(self.genes.bounds)
 
     @property
     def surface(self):
         """The part's design surface."""
-        return self.simulator.surface
+        return self.planner.surface
 
     @property
     def simulation_tolerance(self) -> float:
-        """The tolerance band of a simulated cut's deviation map: the cut tolerance (mm)."""
-        return self.simulator.tolerance
+        """The tolerance band of a simulated cut's deviation map: h_c with a scallop target,
+        else the cut tolerance (mm)."""
+        return self.planner.h_c if self.planner.spacing == "scallop" else self.tolerance
 
-    def cl_path(self, params):
-        """(CLPath, None): the toolpath of one parameter set as the machine runs it (no zones)."""
-        return self.simulator.cl_path(self.row(params)[0]), None
+    @cached_property
+    def simulator(self):
+        """The former analytic evaluator of the 5-axis single-zone case (kept for its own
+        tests until it retires)."""
+        from .simulator import ToolpathSimulator
 
-    def artifacts(self, x) -> dict[str, bytes]:
-        """Result files of one parameter set ``x: (5,)`` (a phenotype row, tool as its index):
-        the CC pattern on the surface (Fountas Fig. 2 analog) and the APT CL program."""
-        from .export.apt_write import apt_program
-        from .figures import cc_pattern_png
+        angle = self.planner.feed_angle
+        return ToolpathSimulator(self.surface, self.tool_db, feed_angle=angle or 0.0,
+                                 tolerance=self.tolerance, feed_rate=self.feed_rate,
+                                 allowance=self.allowance, max_rounds=self.planner.max_rounds)
 
-        x = self.check(x)[0]
-        tool = self.tool_db.tools[int(round(x[0]))]
-        cc = self.simulator.pattern(x)
-        settings = (f"tool {tool.id} ({tool.label()}), step-over {x[1]:.3f} %, lead {x[2]:.3f} deg, "
-                    f"tilt {x[3]:.3f} deg, step {x[4]:.3f} mm")
-        png = cc_pattern_png(self.simulator.surface, cc.points, cc.pass_index, title=settings,
-                             color=cc.chord_error, color_label="chord error (mm)")
-        apt = apt_program(cc.tool_tip, cc.axis, cc.pass_index, diameter=tool.diameter,
-                          corner_radius=tool.corner_radius, feed_rate=self.simulator.feed_rate,
-                          part="EVOPLAN TOOLPATH", comments=textwrap.wrap(settings, 66))
-        return {"cc_pattern.png": png, "toolpath.apt": apt.encode()}
+    # -- rows -----------------------------------------------------------------------------
+    def check(self, X) -> np.ndarray:
+        """X as (n, n_var) float; ValueError ``params.<name>: ...`` for a value out of range."""
+        return self.genes.check(X)
+
+    def row(self, params) -> np.ndarray:
+        """One decision set by name (the tool by its id) -> X row (1, n_var)."""
+        return self.genes.row(params)
+
+    def plan(self, X, place: bool = True):
+        """(PlanBatch, genes) of the rows X (``place``: with the CL points)."""
+        genes = self.genes.decode(self.check(X))
+        return self.planner.plan(genes, place=place), genes
+
+    # -- criteria -------------------------------------------------------------------------
+    def _raw_criteria(self, X) -> dict[str, np.ndarray]:
+        """The analytic criteria of X, with the simulated ones in place of the analytic
+        scallop, gouge and machining error under ``criteria: simulated``."""
+        X = self.check(X)
+        if len(X) == 0:
+            return {k: np.zeros(0) for k in ANALYTIC}
+        batch, genes = self.plan(X, place=False)
+        crit = analytic_criteria(batch, self.surface, self.tool_db, genes,
+                                 allowance=self.allowance, feed_rate=self.feed_rate,
+                                 delta_l=self.delta_l, machine=self.machine)
+        if self.simulated is not None:
+            rows = []
+            for i, t in enumerate(genes["tool"]):
+                path = self.planner.cl_path({k: v[i:i + 1] for k, v in genes.items()},
+                                            self.feed_rate)
+                rows.append(self.simulated.measure(path, self.tool_db.cutter(int(t)).sharp_rim))
+            for name in rows[0]:
+                crit[name] = np.array([r[name] for r in rows])
+        return crit
+
+    def criteria(self, X) -> dict[str, np.ndarray]:
+        """Every raw criterion per row of X, plus ``objective`` (Eq. 9): dict of (n,)."""
+        crit = self._raw_criteria(X)
+        n = len(next(iter(crit.values())))
+        crit["objective"] = (weighted_sum(crit, self.weights, self.norm_bounds)
+                             if self.objectives is None else np.full(n, np.nan))
+        return crit
+
+    def evaluate_params(self, params) -> dict[str, float]:
+        """Every criterion (floats) of ONE decision set, given by name (tool = tool id)."""
+        crit = self.criteria(self.row(params))
+        return {k: float(v[0]) for k, v in crit.items()}
 
     def _evaluate(self, X, out, *args, **kwargs):
-        crit = self._raw_criteria(self.check(X))
+        crit = self._raw_criteria(X)
         if self.objectives is None:
             out["F"] = weighted_sum(crit, self.weights, self.norm_bounds)[:, None]
         else:
             norm = normalize(crit, self.norm_bounds)
-            out["F"] = np.column_stack([norm[k] for k in self.objectives])
+            out["F"] = np.column_stack([norm[k] for k in self.objectives]) if len(X) \
+                else np.zeros((0, len(self.objectives)))
+
+    # -- one plan -------------------------------------------------------------------------
+    def labels(self, genes: dict):
+        """The zone labels on the parametric mesh of the first plan of ``genes`` (None for
+        a single zone fed along a given direction)."""
+        layouts = self.planner.layouts
+        if layouts.gene is None and layouts.single:
+            return None
+        value = genes[layouts.gene][0] if layouts.gene else 0.0
+        return layouts.get(value, int(genes["tool"][0])).labels
+
+    def cl_path(self, params):
+        """(CLPath, mesh labels or None): the toolpath of one decision set (by name, the tool
+        by its id) as the machine runs it; the labels of a zoned plan (``evoplan simulate``)."""
+        genes = self.genes.decode(self.row(params))
+        return self.planner.cl_path(genes, self.feed_rate), self.labels(genes)
+
+    def artifacts(self, x) -> dict[str, bytes]:
+        """Result files of one decision set ``x`` (a phenotype row, the tool as its index):
+        the zone map with the plan's sections, the CC pattern on the surface and the APT CL
+        program with a ``$$ ZONE z PASS k`` comment opening each section."""
+        from .artifacts import plan_artifacts
+
+        X = self.check(np.asarray(x, float).reshape(1, -1))
+        batch, genes = self.plan(X)
+        crit = self.criteria(X)
+        path = self.planner.cl_path(genes, self.feed_rate)
+        return plan_artifacts(self, batch, genes, path, {k: float(v[0]) for k, v in crit.items()})

@@ -111,23 +111,26 @@ def test_multi_objective_mode_returns_normalized_columns():
     np.testing.assert_allclose(F[:, 1], crit["cc_count"] / 2000.0)
 
 
-def test_pattern_is_in_zigzag_order_with_consistent_tool_geometry(fountas_problem):
-    pat = fountas_problem.pattern(GA)
-    assert len(pat.points) == fountas_problem.evaluate_params(GA)["cc_count"]
-    k = pat.pass_index
+def test_plan_is_in_zigzag_order_with_consistent_tool_geometry(fountas_problem):
+    batch, genes = fountas_problem.plan(fountas_problem.row(GA))
+    path, labels = fountas_problem.cl_path(GA)
+    assert labels is None and batch.n == 1 and genes["tool"][0] == 5  # tool id 6 = index 5
+    assert len(batch.p) == len(path) == fountas_problem.evaluate_params(GA)["cc_count"]
+    np.testing.assert_array_equal(path.info["cc"], batch.p)
+    k = path.pass_index
     assert np.all(np.diff(k) >= 0) and k[0] == 0
-    x0, x1 = pat.points[k == 0, 0], pat.points[k == 1, 0]
+    x0, x1 = batch.p[k == 0, 0], batch.p[k == 1, 0]
     assert np.all(np.diff(x0) > 0) and np.all(np.diff(x1) < 0)  # zig, then zag
-    np.testing.assert_allclose(np.linalg.norm(pat.axis, axis=1), 1.0)
+    np.testing.assert_allclose(np.linalg.norm(batch.axis, axis=1), 1.0)
     lead, tilt = np.radians(3.379), np.radians(0.040)
-    np.testing.assert_allclose(np.einsum("ij,ij->i", pat.axis, pat.normals), np.cos(lead) * np.cos(tilt))
-    np.testing.assert_allclose(np.einsum("ij,ij->i", pat.axis, pat.tangent), np.sin(lead), atol=1e-12)
+    np.testing.assert_allclose(np.einsum("ij,ij->i", batch.axis, batch.normal), np.cos(lead) * np.cos(tilt))
+    np.testing.assert_allclose(np.einsum("ij,ij->i", batch.axis, batch.tangent), np.sin(lead), atol=1e-12)
     # torus of tool 6 (R 8, r 3): the corner-circle centre of the contact lies on the rim
     # circle around the axis, r above the tip
     R, r = 8.0, 3.0
-    q = pat.points + r * pat.normals
-    rel = q - (pat.tool_tip + r * pat.axis)
-    np.testing.assert_allclose(np.einsum("ij,ij->i", rel, pat.axis), 0.0, atol=1e-9)
+    q = batch.p + r * batch.normal
+    rel = q - (path.tip + r * path.axis)
+    np.testing.assert_allclose(np.einsum("ij,ij->i", rel, path.axis), 0.0, atol=1e-9)
     np.testing.assert_allclose(np.linalg.norm(rel, axis=1), R - r, rtol=1e-9)
 
 
@@ -148,7 +151,7 @@ def test_choi_and_bspline_surfaces_from_plain_data(tmp_path):
         r = ToolpathProblem(surface={"type": "bezier", "poles": name, "degree": [3, 3]},
                             base_dir=tmp_path, normalization=FIXED)
         u = np.linspace(0, 1, 7)
-        np.testing.assert_allclose(r.simulator.surface.points(u, u[::-1]),
+        np.testing.assert_allclose(r.surface.points(u, u[::-1]),
                                    choi_surface().points(u, u[::-1]), atol=1e-12)
 
 

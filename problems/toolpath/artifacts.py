@@ -1,0 +1,113 @@
+"""Result files of one toolpath plan: the zone map, the CC pattern and the APT CL program.
+
+Every configuration of the toolpath problem writes the three (a single zone is a zone map
+of one zone): the zone map draws the zones on the parametric mesh in plan view, their
+borders and the sections actually cut (the CC points of each section joined in machining
+order), each zone labelled with its feed direction and cutting length; the CC pattern
+(``figures.cc_pattern_png``) colours the CC points by zone, or by chord error for one zone (5-axis);
+the APT program (``export.apt_write.apt_toolpath``) opens each section with a
+``$$ ZONE z PASS k`` comment, entered from and left to the safe height.
+"""
+
+from __future__ import annotations
+
+import io
+import textwrap
+
+import numpy as np
+
+__all__ = ["plan_artifacts", "zone_map_png"]
+
+
+def _title(problem, genes, crit) -> str:
+    parts = []
+    for name, value in genes.items():
+        v = value[0]
+        if name == "tool":
+            tool = problem.tool_db.tools[int(v)]
+            parts.append(f"tool {tool.id} ({tool.label()})")
+        else:
+            parts.append(f"{name} {v:.4g}")
+    zoning = problem.planner.layouts.method.name
+    parts.append(f"{problem.machine}, {zoning}: {crit['zones']:.0f} zone(s), cutting "
+                 f"{crit['cutting_length']:.1f} mm, Eq. 4 total {crit['eq4_total']:.1f} mm")
+    return ", ".join(parts)
+
+
+def zone_map_png(surface, batch, labels, title: str = "") -> bytes:
+    """PNG bytes: plan 0 of ``batch`` in plan view (XY), its zones (``labels`` (n, m) on the
+    parametric mesh, or None for one zone) with their borders, and its sections."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.collections import LineCollection
+
+    from .plan.zoning.figures import border_segments
+
+    labels = np.zeros((24, 24), int) if labels is None else np.asarray(labels)
+    n, m = labels.shape
+    zones = int(batch.zones[0])
+    gu, gv = np.meshgrid(np.linspace(0, 1, n + 1), np.linspace(0, 1, m + 1), indexing="ij")
+    corners = surface.points(gu.ravel(), gv.ravel()).reshape(n + 1, m + 1, 3)
+    fig, ax = plt.subplots(figsize=(7.5, 8), dpi=110)
+    cmap = plt.get_cmap("tab20", max(zones, 1))
+    ax.pcolormesh(corners[..., 0], corners[..., 1], labels, cmap=cmap, alpha=0.35,
+                  vmin=-0.5, vmax=zones - 0.5, shading="flat")
+    ax.add_collection(LineCollection(border_segments(labels, corners), colors="k", linewidths=1.2))
+    secs = np.flatnonzero(batch.sec_ind == 0)
+    lines = [batch.p[batch.sec_start[s]:batch.sec_start[s] + batch.sec_count[s], :2] for s in secs]
+    ax.add_collection(LineCollection(lines, colors=[cmap(int(batch.sec_zone[s])) for s in secs],
+                                     linewidths=0.8))
+    seg_zone = batch.sec_zone[batch.seg_sec]
+    for z in range(zones):
+        own = secs[batch.sec_zone[secs] == z]
+        if len(own) == 0:
+            continue
+        pts = np.concatenate([lines[i] for i in np.flatnonzero(batch.sec_zone[secs] == z)])
+        length = batch.seg_len[(batch.sec_ind[batch.seg_sec] == 0) & (seg_zone == z)].sum()
+        deg = np.degrees(batch.sec_alpha[own[0]]) % 180
+        cx, cy = pts.mean(axis=0)
+        ax.annotate(f"{z}: {deg:.0f}°\n{length:.0f} mm", (cx, cy), ha="center", va="center",
+                    fontsize=7, bbox=dict(boxstyle="round", fc="white", alpha=0.7, lw=0))
+    ax.set_aspect("equal")
+    ax.set_xlabel("X (mm)")
+    ax.set_ylabel("Y (mm)")
+    ax.set_title("\n".join(textwrap.wrap(title, 90)), fontsize=8)
+    buf = io.BytesIO()
+    fig.tight_layout()
+    fig.savefig(buf, format="png")
+    plt.close(fig)
+    return buf.getvalue()
+
+
+def plan_artifacts(problem, batch, genes, path, crit) -> dict[str, bytes]:
+    """``zone_map.png``, ``cc_pattern.png`` and ``toolpath.apt`` of plan 0 of ``batch``
+    (``path``: its CLPath as the machine runs it, ``crit``: its criteria)."""
+    from .export.apt_write import apt_toolpath
+    from .export.toolpath import Tool, Toolpath
+    from .figures import cc_pattern_png
+
+    tool = problem.tool_db.tools[int(genes["tool"][0])]
+    title = _title(problem, genes, crit)
+    zones = int(batch.zones[0])
+    if zones > 1:
+        color, label, categories = path.zone, "zone", zones
+    else:  # the plan's chord errors, when the CL path holds the plan's points as they are
+        idx = batch.points_of(0)
+        chord = batch.chord[idx] if len(idx) == len(path) else None
+        color, label, categories = chord, "chord error (mm)" if chord is not None else "", None
+    starts = np.flatnonzero(np.r_[True, np.diff(path.section) != 0])
+    names = {int(path.section[i]): f"ZONE {path.zone[i]} PASS {path.pass_index[i]}"
+             for i in starts}
+    tp = Toolpath.from_sections("finish", Tool(tool.id, tool.diameter, tool.corner_radius),
+                                path.tip, path.axis, path.section, feed=path.feed_rate,
+                                comments=textwrap.wrap(title, 66), section_names=names)
+    return {
+        "zone_map.png": zone_map_png(problem.surface, batch, problem.labels(genes), title),
+        "cc_pattern.png": cc_pattern_png(problem.surface, path.info["cc"], path.pass_index,
+                                         title="\n".join(textwrap.wrap(title, 110)),
+                                         color=color, color_label=label,
+                                         categories=categories),
+        "toolpath.apt": apt_toolpath(tp, part="EVOPLAN TOOLPATH").encode(),
+    }
