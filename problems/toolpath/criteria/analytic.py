@@ -15,12 +15,11 @@ tools):
     (:func:`~problems.toolpath.criteria.scallop.gap_heights` on each plan's
     ``Cutter.swept_profile`` tables). The gap lies on the tool's +b side when the section
     travels along +f and faces the next plane, or travels along -f and faces the previous one.
-  - 3-axis (no lead/tilt): the circle model of the same module,
-    :func:`~problems.toolpath.criteria.scallop.scallop_height` with the exact effective
-    radius of the vertical cutter at each point (``Cutter.effective_radius`` with a.t = t_z,
-    a.n = n_z: Djebali Eq. 1 written in the travel frame). It is exact for a ball-end; for a
-    toroidal or flat-end tool the circle only matches the swept profile near the contact
-    (see ``plan/zoning/profile.py``). A gap the circle does not span leaves the allowance.
+  - 3-axis (no lead/tilt): the vertical cutter's exact swept profile, the model the
+    planner spaces 3-axis passes with, inverted for the cusp height
+    (``criteria/scallop_3axis.py``); gouge from the circle model with the exact effective
+    radius (``Cutter.effective_radius``, a.t = t_z, a.n = n_z: Djebali Eq. 1 in the travel
+    frame). ``r_eff`` is then the smallest over the plan's points.
 
   Heights are capped at the finishing ``allowance``; a negative height is a gouge.
 - **Machining error** per point (Fountas Fig. 1): chord error (larger of the point's two
@@ -39,7 +38,8 @@ from __future__ import annotations
 import numpy as np
 
 from ..geometry.surface import normal_curvature, unit_normal
-from .scallop import gap_heights, scallop_height
+from .scallop import gap_heights
+from .scallop_3axis import gap_heights_3axis
 from .table import names
 
 __all__ = ["analytic_criteria", "point_heights", "ANALYTIC"]
@@ -113,13 +113,11 @@ def point_heights(batch, surface, tools, genes, *, allowance, machine=None) -> d
         r_eff = _per_tool(tools, ti, lambda c, rows: c.effective_radius_lead_tilt(
             lead[rows], tilt[rows]))[ind]
     else:
-        t_z = np.abs(batch.tangent[:, 2])
-        pt_tool = ti[ind]
+        tan, pt_tool = batch.tangent, ti[ind]
         r_eff = _per_tool(tools, pt_tool, lambda c, rows: c.effective_radius(
-            t_z[rows], nrm[rows, 2]))
-        with np.errstate(invalid="ignore"):
-            h = scallop_height(r_eff, w, kappa)
-        h = np.minimum(np.where(np.isnan(h), allowance, h), allowance)
+            tan[rows, 2], nrm[rows, 2]))
+        h = _per_tool(tools, pt_tool, lambda c, rows: gap_heights_3axis(
+            c, w[rows], tan[rows], nrm[rows], kappa[rows], allowance))
     h = np.where(side != 0, h, 0.0)
     return dict(h=h, kappa=kappa, w=w, normal=nrm, r_eff=r_eff)
 

@@ -8,10 +8,10 @@ from toolpath_analytic import Plane
 
 from evoplan.problems.toolpath.criteria.analytic import ANALYTIC, analytic_criteria
 from evoplan.problems.toolpath.criteria.table import CRITERIA
-from evoplan.problems.toolpath.geometry.surface import fountas_surface, unit_normal
+from evoplan.problems.toolpath.criteria.scallop_3axis import cusp_heights
+from evoplan.problems.toolpath.geometry.surface import fountas_surface
 from evoplan.problems.toolpath.plan.batch import PlanBatch
-from evoplan.problems.toolpath.plan.orientation import travel_tangent
-from evoplan.problems.toolpath.plan.pattern import cc_pattern_batch
+from evoplan.problems.toolpath.plan.planner import Planner
 from evoplan.problems.toolpath.simulator import ToolpathSimulator
 from evoplan.problems.toolpath.tools import parse_tools
 
@@ -31,37 +31,10 @@ def _random(n, seed, n_tools=9):
                             rng.uniform(0, 5, n), rng.uniform(0, 2, n), rng.uniform(5, 10, n)])
 
 
-def _plans(sim, X):
-    """Single-zone PlanBatch of the simulator's zig-zag patterns, in machining order (odd
-    passes reversed), built from ``plan.pattern.cc_pattern_batch``."""
-    g = sim.decode(X)
-    pb = cc_pattern_batch(sim.geometry, g["delta"], g["step"], sim.tolerance, sim.max_rounds)
-    rev = pb.pass_k % 2 == 1
-
-    def machining_order(owner, start, count):
-        pos = np.arange(len(owner)) - start[owner]
-        at = start[owner] + np.where(rev[owner], count[owner] - 1 - pos, pos)
-        order = np.empty(len(owner), int)
-        order[at] = np.arange(len(owner))
-        return order
-
-    order = machining_order(pb.pt_pass, pb.pass_start, pb.pass_count)
-    n_seg = pb.pass_count - 1
-    seg_order = machining_order(pb.seg_pass, np.cumsum(n_seg) - n_seg, n_seg)
-    n_int = np.bincount(pb.pass_ind, minlength=pb.n) - 1
-    side = np.where(n_int[pb.pass_ind] == 0, 0, np.where(pb.pass_k == n_int[pb.pass_ind], -1, 1))
-    alpha = np.full(len(pb.pass_d), np.arctan2(sim.geometry.f[1], sim.geometry.f[0]))
-    u, v, pt_sec = pb.u[order], pb.v[order], pb.pt_pass[order]
-    normal = unit_normal(sim.surface.jet(u, v, order=1), sim.surface.normal_sign)
-    tangent = travel_tangent(normal, alpha[pt_sec], rev[pt_sec])
-    return PlanBatch(
-        n=pb.n, zones=np.ones(pb.n, int), sec_ind=pb.pass_ind, sec_zone=0 * pb.pass_k,
-        sec_pass=pb.pass_k, sec_d=pb.pass_d, sec_alpha=alpha, sec_reverse=rev,
-        sec_spacing=pb.pass_spacing, sec_side=side, sec_start=pb.pass_start,
-        sec_count=pb.pass_count, pt_sec=pt_sec, u=u, v=v, p=pb.p[order], normal=normal,
-        tangent=tangent, axis=normal, tip=None, chord=pb.chord[order],
-        on_part=np.ones(len(u), bool), seg_sec=pb.seg_pass[seg_order],
-        seg_err=pb.seg_err[seg_order], seg_len=pb.seg_len[seg_order])
+def _plans(surface, tools, X, machine="5axis"):
+    """Single-zone plans of the rows of X (tool index, stepover, lead, tilt, step)."""
+    genes = _genes(X, machine == "5axis")
+    return Planner(surface, tools, machine=machine).plan(genes, place=False)
 
 
 @pytest.fixture(scope="module")
@@ -74,7 +47,7 @@ def fountas():
 def test_single_zone_5axis_equals_the_simulator(fountas, X):
     surface, tools, sim = fountas
     old = sim.criteria(X)
-    new = analytic_criteria(_plans(sim, X), surface, tools, _genes(X), **OPTIONS)
+    new = analytic_criteria(_plans(surface, tools, X), surface, tools, _genes(X), **OPTIONS)
     assert set(old) <= set(new)
     for name in old:
         np.testing.assert_allclose(new[name], old[name], rtol=1e-9, atol=0, err_msg=name)
@@ -84,10 +57,10 @@ def test_single_zone_5axis_equals_the_simulator(fountas, X):
 
 
 def test_every_criterion_is_finite_where_it_may_be_weighted(fountas):
-    surface, tools, sim = fountas
+    surface, tools, _ = fountas
     X = _random(30, seed=3)
-    batch = _plans(sim, X)
-    for five_axis in (True, False):
+    batch = _plans(surface, tools, X)
+    for five_axis in (True, False):  # the same CC points judged with a 5- or 3-axis tool
         crit = analytic_criteria(batch, surface, tools, _genes(X, five_axis), **OPTIONS)
         assert tuple(crit) == ANALYTIC
         for name, values in crit.items():
@@ -103,9 +76,9 @@ def test_every_criterion_is_finite_where_it_may_be_weighted(fountas):
 
 
 def test_cutting_length_is_the_length_of_the_sections_polylines(fountas):
-    surface, tools, sim = fountas
+    surface, tools, _ = fountas
     X = _random(6, seed=11)
-    batch = _plans(sim, X)
+    batch = _plans(surface, tools, X)
     crit = analytic_criteria(batch, surface, tools, _genes(X), **OPTIONS)
     expected, links = np.zeros(6), np.zeros(6)
     for s in range(len(batch.sec_ind)):
@@ -171,13 +144,12 @@ def test_ball_scallop_on_a_plane_is_the_closed_form(slope):
     (profile tables) and in 3-axis (circle model, exact for a ball)."""
     tools = parse_tools([{"diameter": 12, "corner_radius": 6}])
     surface = Plane(b=slope)
-    sim = ToolpathSimulator(surface, tools)
     X = np.array([[0, 20.0, 0.0, 0.0, 8.0], [0, 35.0, 0.0, 0.0, 8.0]])
-    batch = _plans(sim, X)
     w = X[:, 1] / 100 * 12 * np.sqrt(1 + slope ** 2)
     h = 6.0 - np.sqrt(36.0 - (w / 2) ** 2)
-    for five_axis, rtol in ((True, 1e-3), (False, 1e-12)):
-        crit = analytic_criteria(batch, surface, tools, _genes(X, five_axis), **OPTIONS)
+    for machine, rtol in (("5axis", 1e-3), ("3axis", 1e-12)):
+        batch = _plans(surface, tools, X, machine)
+        crit = analytic_criteria(batch, surface, tools, _genes(X, machine == "5axis"), **OPTIONS)
         np.testing.assert_allclose(crit["scallop_max"], h, rtol=rtol)
         np.testing.assert_allclose(crit["machining_error"], h, rtol=rtol)
         assert np.all(crit["gouge_max"] == 0) and np.all(crit["r_eff"] == 6.0)
@@ -189,3 +161,31 @@ def test_a_zone_of_one_plane_leaves_no_modelled_scallop():
     crit = analytic_criteria(batch, Plane(), tools, {"tool": np.zeros(1, int)}, **OPTIONS)
     assert crit["scallop_max"][0] == 0 and crit["link_length"][0] == 0
     assert crit["n_passes"][0] == 1 and crit["cutting_length"][0] == 100.0
+
+
+def test_3axis_torus_on_a_plane_is_the_corner_arc_closed_form():
+    """Vertical torus D12 r2 on a horizontal plane: the flat bottom (half-width R0 = 4) covers
+    a gap up to 8 mm; beyond, the corner arcs meet at h = r - sqrt(r^2 - (w/2 - R0)^2). The
+    circle of R_eff (infinite here) would say 0 for both."""
+    tools = parse_tools([{"diameter": 12, "corner_radius": 2}])
+    X = np.array([[0, 50.0, 0.0, 0.0, 8.0], [0, 80.0, 0.0, 0.0, 8.0]])  # w 6 and 9.6 mm
+    surface = Plane(0.0, 96.0, 0.0, 96.0)  # a whole number of passes: no shorter last one
+    crit = analytic_criteria(_plans(surface, tools, X, "3axis"), surface, tools,
+                             _genes(X, False), **OPTIONS)
+    h = 2.0 - np.sqrt(4.0 - (9.6 / 2 - 4.0) ** 2)
+    assert crit["scallop_max"][0] == 0.0
+    np.testing.assert_allclose(crit["scallop_max"][1], h, rtol=5e-3)
+    assert np.all(crit["gouge_max"] == 0) and np.all(np.isinf(crit["r_eff"]))
+
+
+@pytest.mark.parametrize("tool", [2, 5])  # flat-end D16, toroidal D12 r2
+def test_3axis_cusp_inverts_the_planners_spacing_model(tool):
+    """The cusp height read back at the width the profile spans at h (both sides, flat
+    section, ``Cutter.swept_side_width``) is h."""
+    cutter = parse_tools().cutter(tool)
+    rng = np.random.default_rng(tool)
+    t_z, beta, h = rng.uniform(0, 0.8, 300), rng.uniform(-1, 1, 300), np.geomspace(0.002, 0.5, 300)
+    w = cutter.swept_side_width(h, t_z, beta) + cutter.swept_side_width(h, t_z, -beta)
+    got = cusp_heights(cutter, w, t_z, np.sin(beta) * np.sqrt(1 - t_z ** 2), np.zeros(300))
+    rel = np.abs(got / h - 1)
+    assert np.percentile(rel, 95) < 0.01 and rel.max() < 0.05
