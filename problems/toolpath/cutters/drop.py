@@ -131,6 +131,8 @@ def _seeds(cutter, grid, xy):
     per_quad = np.full((k, 4), -1, np.int64)
     for j in range(4):  # masks keep q sorted: the linear-time grouping
         sel = np.flatnonzero(quad == j)
+        if len(sel) == 0:  # no grid point in this quadrant of any disk (off a corner)
+            continue
         arg = group_argmax(q[sel], f[sel], k)
         per_quad[:, j] = np.where(arg >= 0, sel[np.maximum(arg, 0)], -1)
     best_f = np.where(best >= 0, f[np.maximum(best, 0)], -np.inf)

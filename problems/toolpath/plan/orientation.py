@@ -39,10 +39,13 @@ def travel_tangent(normal, alpha, reverse) -> np.ndarray:
 
 
 class Machine:
-    """How a machine orients and places the tool. ``genes``: the decisions it adds."""
+    """How a machine orients and places the tool. ``genes``: the decisions it adds;
+    ``overrun``: whether sections ending on the part's edge run on past it
+    (``overrun.py``; only a placement that needs no surface under the tool can)."""
 
     name = ""
     genes: tuple[str, ...] = ()
+    overrun = False
 
     def axes(self, normal, tangent, genes: dict) -> np.ndarray:
         """Unit tool axes (N, 3) from normals, travel tangents and per-point genes (N,)."""
@@ -77,16 +80,29 @@ class ThreeAxis(Machine):
             raise ValueError(f"placement: expected one of {', '.join(self.PLACEMENTS)}, "
                              f"got {placement!r}")
         self.placement = placement
+        self.overrun = placement == "drop"
 
     def axes(self, normal, tangent, genes):
         return np.broadcast_to(np.array([0.0, 0.0, 1.0]), normal.shape).copy()
 
     def tips(self, cutter, surface, cc, normal, axis):
+        return self.tips_shifted(cutter, surface, cc, normal, np.zeros_like(cc))
+
+    def tips_shifted(self, cutter, surface, cc, normal, shift):
+        """Tips of the CC points moved by ``shift`` (k, 3) in XY: the tangent tool's XY plus
+        the shift, dropped onto the part (the overrun past an edge, ``overrun.py``)."""
         tangent_tip = cutter.cc_to_tip(cc, normal, (0.0, 0.0, 1.0))
         if self.placement == "cc":
-            return tangent_tip
-        xy = tangent_tip[:, :2]
-        return np.column_stack([xy, cutter.drop_cutter(surface, xy)])
+            return tangent_tip + shift
+        xy = tangent_tip[:, :2] + shift[:, :2]
+        z = cutter.drop_cutter(surface, xy)
+        for scale in (0.5, 0.25, 0.0):  # a shift past a corner can leave the part's reach
+            lost = ~np.isfinite(z)
+            if not lost.any():
+                break
+            xy[lost] = tangent_tip[lost, :2] + scale * shift[lost, :2]
+            z[lost] = cutter.drop_cutter(surface, xy[lost])
+        return np.column_stack([xy, z])
 
 
 MACHINES = {"5axis": FiveAxis, "3axis": ThreeAxis}

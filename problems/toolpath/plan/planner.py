@@ -31,6 +31,7 @@ from ..tools import ToolDatabase
 from ..clpath import CLPath
 from .batch import PlanBatch
 from .orientation import get_machine, travel_tangent
+from .overrun import edge_overrun, refine_overrun_moves
 from .planes import PassGeometry
 from .points import sample_sections
 from .sections import Sections, full_plane_sections, zone_sections
@@ -40,6 +41,7 @@ from .zoning.chord import refine_chords
 __all__ = ["Planner", "SPACINGS"]
 
 SPACINGS = ("stepover", "scallop")
+OVERRUN = 0.0
 
 
 class Planner:
@@ -132,7 +134,7 @@ class Planner:
             return path
         pts = {"uv": path.info["uv"], "cc": path.info["cc"], "normal": path.info["normal"],
                "tip": path.tip, "section": path.section, "pass_index": path.pass_index,
-               "zone": path.zone}
+               "zone": path.zone, "on_part": path.info["on_part"]}
         cutter = tool.cutter
 
         def place(c, surface, cc, normal):
@@ -140,7 +142,10 @@ class Planner:
 
         pts, stats = refine_chords(self.surface, cutter, place, pts, self.tolerance,
                                    chord_rounds)
-        info = {"cc": pts["cc"], "uv": pts["uv"], "normal": pts["normal"], **stats}
+        pts, stats["overrun_added"] = refine_overrun_moves(pts, cutter, self.surface,
+                                                           self.tolerance, chord_rounds)
+        info = {"cc": pts["cc"], "uv": pts["uv"], "normal": pts["normal"],
+                "on_part": pts["on_part"], **stats}
         return CLPath(pts["tip"], np.array([0.0, 0.0, 1.0]), tool.diameter,
                       tool.corner_radius, section=pts["section"],
                       pass_index=pts["pass_index"], zone=pts["zone"], feed_rate=feed_rate,
@@ -155,7 +160,8 @@ class Planner:
         sampled = [sample_sections(s.geom, s.d, s.ta, s.tb, s.step, self.tolerance,
                                    self.max_rounds) for s in parts]
         sec = {k: np.concatenate([getattr(s, k) for s in parts])
-               for k in ("ind", "zone", "pass_k", "d", "ta", "spacing", "side")}
+               for k in ("ind", "zone", "pass_k", "d", "ta", "tb", "spacing", "side", "run_lo",
+                         "run_hi")}
         sec["alpha"] = np.concatenate([np.full(len(s.d), s.alpha) for s in parts])
         sec_off = np.cumsum([0] + [len(s.d) for s in parts])[:-1]
         pt_off = np.cumsum([0] + [len(sp.u) for sp in sampled])[:-1]
@@ -183,21 +189,50 @@ class Planner:
         ind_pt = sec["ind"][pt_sec]
         axis = self.machine.axes(normal, tangent, {g: np.asarray(genes[g], float)[ind_pt]
                                                    for g in self.machine.genes})
-        tip = None
-        if place:
-            tip = np.empty_like(p)
+        seg = {"sec": inv[seg_sec][seg_order], "err": pts["seg_err"][seg_order],
+               "len": pts["seg_len"][seg_order]}
+        pt = {"u": u, "v": v, "p": p, "chord": chord, "normal": normal, "tangent": tangent,
+              "axis": axis}
+        on_part, shift = np.ones(len(u), bool), np.zeros_like(p)
+        if self.machine.overrun:
+            lo_end, hi_end = sec["ta"] <= 1e-9, sec["tb"] >= 1 - 1e-9
+            ahead = np.zeros(len(u))
             for t in np.unique(tool[ind_pt]):
                 sel = tool[ind_pt] == t
-                tip[sel] = self.machine.tips(self.tools.cutter(t), self.surface, p[sel],
-                                             normal[sel], axis[sel])
+                off = self.tools.cutter(t).cc_to_tip(p[sel], normal[sel]) - p[sel]
+                ahead[sel] = np.sum(off[:, :2] * tangent[sel, :2], axis=1) / np.maximum(
+                    np.linalg.norm(tangent[sel, :2], axis=1), 1e-300)
+            base = OVERRUN * self.tools.R[tool[sec["ind"]]]
+            pt, new_start, count, on_part, shift, (x_sec, x_len) = edge_overrun(
+                pt, new_start, count, np.where(reverse, hi_end, lo_end),
+                np.where(reverse, lo_end, hi_end),
+                base + np.where(reverse, sec["run_hi"], sec["run_lo"]),
+                base + np.where(reverse, sec["run_lo"], sec["run_hi"]), ahead)
+            seg = {"sec": np.r_[seg["sec"], x_sec], "err": np.r_[seg["err"], 0.0 * x_len],
+                   "len": np.r_[seg["len"], x_len]}
+            o = np.argsort(seg["sec"], kind="stable")
+            seg = {k: a[o] for k, a in seg.items()}
+            pt_sec = np.repeat(np.arange(len(count)), count)
+            ind_pt = sec["ind"][pt_sec]
+        tip = None
+        if place:
+            tip = np.empty_like(pt["p"])
+            for t in np.unique(tool[ind_pt]):
+                sel = tool[ind_pt] == t
+                cutter = self.tools.cutter(t)
+                if self.machine.overrun:
+                    tip[sel] = self.machine.tips_shifted(cutter, self.surface,
+                                                         pt["p"][sel] - shift[sel],
+                                                         pt["normal"][sel], shift[sel])
+                else:
+                    tip[sel] = self.machine.tips(cutter, self.surface, pt["p"][sel],
+                                                 pt["normal"][sel], pt["axis"][sel])
         return PlanBatch(
             n=n, zones=zones, sec_ind=sec["ind"], sec_zone=sec["zone"], sec_pass=sec["pass_k"],
             sec_d=sec["d"], sec_alpha=sec["alpha"], sec_reverse=reverse,
             sec_spacing=sec["spacing"], sec_side=sec["side"], sec_start=new_start,
-            sec_count=count, pt_sec=pt_sec, u=u, v=v, p=p, normal=normal, tangent=tangent,
-            axis=axis, tip=tip, chord=chord, on_part=np.ones(len(u), bool),
-            seg_sec=inv[seg_sec][seg_order], seg_err=pts["seg_err"][seg_order],
-            seg_len=pts["seg_len"][seg_order])
+            sec_count=count, pt_sec=pt_sec, tip=tip, on_part=on_part, seg_sec=seg["sec"],
+            seg_err=seg["err"], seg_len=seg["len"], **pt)
 
 
 def _pass_rank(ind, zone, pass_k):

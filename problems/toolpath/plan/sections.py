@@ -11,13 +11,14 @@ along the cross-feed c (``planes.PassGeometry``). Two spacings:
   worst point of its pass allows).
 
 A section is a stretch [tau_a, tau_b] of a plane that the zone's passes cut. A single-zone
-plan cuts every plane across the whole footprint. In a zoned plan a plane is cut where it
-crosses the zone GROWN by the plane's own spacing (the larger of its two gaps), measured in
-XY by the zone's distance field: then every point of the zone has both of its neighbouring
-planes cut beside it, so the scallop between them is the scallop the spacing was chosen
-for, right up to the zone's border (the neighbouring zones' passes overlap by about one
-spacing, the price of a border that really meets the target). Membership is sampled along
-each plane at most ``resolution`` mm apart.
+plan cuts every plane across the whole footprint. In a zoned plan a plane is cut wherever
+its BAND holds zone material: the strip between its two neighbouring planes. Then every
+point of the zone has both of the planes around it cut beside it (at its feed
+coordinate), so the scallop between them is the one the spacing was chosen for, right up
+to the zone's border: neighbouring zones' passes overlap there, by what the border's
+obliquity to the planes requires and no more (a plane cut only where it crosses its zone
+would leave a wedge between two planes that end at different places along an oblique
+border). Membership is sampled along each plane at most ``resolution`` mm apart.
 
 Each section also carries the gap its points' scallop is measured in: the spacing to the
 next plane (``side`` +1), or to the previous one for the zone's last plane (-1), or none
@@ -54,6 +55,8 @@ class Sections:
     step: np.ndarray
     spacing: np.ndarray
     side: np.ndarray
+    run_lo: np.ndarray | None = None
+    run_hi: np.ndarray | None = None
 
 
 def plane_offsets(lo, hi, delta):
@@ -77,6 +80,28 @@ def _gaps(owner, k, d, n_int):
     return d, np.where(n_int == 0, 0.0, gap), side
 
 
+def _band(k, gap, side):
+    """(up, down): each plane's gap to the next plane (along +c) and to the previous one."""
+    prev_gap = np.where(k > 0, np.r_[0.0, gap[:-1]], 0.0)
+    return np.where(side > 0, gap, 0.0), np.where(side != 0, prev_gap, 0.0)
+
+
+def edge_runs(geom: PassGeometry, d, up, down, samples: int = 4):
+    """(run_lo, run_hi) (mm): how far the footprint extends along the feed past each plane's
+    own ends within its band (the strip to its neighbouring planes). Where the part's edge
+    is oblique to the planes, the neighbouring plane meets it later: the wedge of part
+    between the two is only reached if this plane's pass runs on past its end by that much
+    (``overrun.py``)."""
+    lo, hi = geom.pass_extent(d)
+    run_lo, run_hi = np.zeros_like(d), np.zeros_like(d)
+    for f in np.arange(1, samples + 1) / samples:
+        for off in (f * up, -f * down):
+            lo2, hi2 = geom.pass_extent(d + off)
+            run_lo = np.maximum(run_lo, lo - lo2)
+            run_hi = np.maximum(run_hi, hi2 - hi)
+    return run_lo, run_hi
+
+
 def full_plane_sections(geom: PassGeometry, rows, delta, step) -> Sections:
     """Single zone: every plane across the whole footprint (``rows``: the individuals)."""
     rows = np.asarray(rows)
@@ -84,13 +109,14 @@ def full_plane_sections(geom: PassGeometry, rows, delta, step) -> Sections:
     owner, k, d, gap, side = plane_offsets(np.full(n, geom.d_min), np.full(n, geom.d_max),
                                            delta)
     one = np.ones(len(d))
+    run_lo, run_hi = edge_runs(geom, d, *_band(k, gap, side))
     return Sections(geom, float(np.arctan2(geom.f[1], geom.f[0])), rows[owner],
                     np.zeros(len(d), np.int64), k, d, 0 * one, one,
-                    np.asarray(step, float)[owner], gap, side)
+                    np.asarray(step, float)[owner], gap, side, run_lo, run_hi)
 
 
 def zone_sections(geom: PassGeometry, layout, z: int, rows, delta, step, spacing: str,
-                  resolution: float = 0.5) -> Sections:
+                  resolution: float = 0.5, sub_planes: int = 4) -> Sections:
     """Zone z of ``layout`` for the individuals ``rows`` (their step-over ``delta`` and
     ``step``, mm): its planes (``spacing``: stepover | scallop) and their sections."""
     rows = np.asarray(rows)
@@ -98,31 +124,57 @@ def zone_sections(geom: PassGeometry, layout, z: int, rows, delta, step, spacing
         lo, hi = layout.extent[z]
         owner, k, d, gap, side = plane_offsets(np.full(len(rows), lo), np.full(len(rows), hi),
                                                delta)
-    else:
+        p, ta, tb = _stretches(geom, layout, z, d, gap, side, k, resolution, sub_planes)
+        run_lo, run_hi = edge_runs(geom, d, *_band(k, gap, side))
+    else:  # the same planes for every individual: one search, repeated
         planes = layout.planes[z]
-        n_int = len(planes) - 1
+        kk = np.arange(len(planes))
+        d1, gap1, side1 = _gaps(np.zeros(len(kk), np.int64), kk, planes,
+                                np.full(len(kk), len(planes) - 1))
+        p1, ta1, tb1 = _stretches(geom, layout, z, d1, gap1, side1, kk, resolution, sub_planes)
+        lo1, hi1 = edge_runs(geom, d1, *_band(kk, gap1, side1))
         owner, k = ranges(np.full(len(rows), len(planes)))
-        d, gap, side = _gaps(owner, k, np.tile(planes, len(rows)), np.full(len(k), n_int))
-    prev_gap = np.where(k > 0, np.r_[0.0, gap[:-1]], 0.0)
-    grow = np.maximum(np.where(side > 0, gap, 0.0), np.where(side != 0, prev_gap, 0.0))
-    grow = grow + 0.5 * max(layout.cell_size)
-    p, ta, tb = _stretches(geom, layout, z, d, grow, resolution)
+        d, gap, side, run_lo, run_hi = d1[k], gap1[k], side1[k], lo1[k], hi1[k]
+        rep, _ = ranges(np.full(len(rows), len(p1)))
+        p = np.tile(p1, len(rows)) + rep * len(planes)
+        ta, tb = np.tile(ta1, len(rows)), np.tile(tb1, len(rows))
     alpha = float(np.arctan2(geom.f[1], geom.f[0]))
     return Sections(geom, alpha, rows[owner[p]], np.full(len(p), z, np.int64), k[p], d[p],
-                    ta, tb, np.asarray(step, float)[owner[p]], gap[p], side[p])
+                    ta, tb, np.asarray(step, float)[owner[p]], gap[p], side[p],
+                    run_lo[p], run_hi[p])
 
 
-def _stretches(geom, layout, z, d, grow, resolution):
-    """(plane, tau_a, tau_b) of every run of plane points within ``grow`` (mm, per plane)
-    of zone z, sampled at most ``resolution`` mm apart along the planes."""
+def _stretches(geom, layout, z, d, gap, side, k, resolution, sub_planes):
+    """(plane, tau_a, tau_b) of every run along the planes d where the plane's BAND holds
+    material of zone z: the band reaches the neighbouring planes (gap to the next, along +c,
+    and to the previous), sampled by ``sub_planes`` offsets on each side, each point taken
+    as zone material within half a sub-plane spacing (plus half a mesh cell) of the zone
+    (its distance field); along the planes the points are at most ``resolution`` mm apart
+    in the feed coordinate."""
+    up, down = _band(k, gap, side)
     lo, hi = geom.pass_extent(d)
     nt = max(int(np.ceil(float(np.max(hi - lo, initial=0.0)) / resolution)) + 1, 2)
     tau = np.linspace(0.0, 1.0, nt)
-    u, v = geom.seed(np.repeat(d, nt), np.tile(tau, len(d)))
+    s = lo[:, None] + tau[None, :] * (hi - lo)[:, None]  # feed coordinate (P, nt)
     n, m = layout.labels.shape
-    i = np.clip((u * n).astype(np.int64), 0, n - 1)
-    j = np.clip((v * m).astype(np.int64), 0, m - 1)
-    inside = (layout.distance[z][i, j] <= np.repeat(grow, nt)).reshape(len(d), nt)
+    dist = layout.distance[z]
+    half_cell = 0.5 * max(layout.cell_size)
+    frac = np.arange(1, sub_planes + 1) / sub_planes
+    offsets = [np.zeros_like(d)] + [f * up for f in frac] + [-f * down for f in frac]
+    margins = [np.zeros_like(d)] + [0.5 * up / sub_planes] * sub_planes \
+        + [0.5 * down / sub_planes] * sub_planes
+    inside = np.zeros((len(d), nt), bool)
+    for off, margin in zip(offsets, margins):
+        d2 = d + off
+        lo2, hi2 = geom.pass_extent(d2)
+        span = np.where(hi2 > lo2, hi2 - lo2, 1.0)
+        t2 = (s - lo2[:, None]) / span[:, None]
+        ok = (t2 >= -1e-9) & (t2 <= 1 + 1e-9)
+        u, v = geom.seed(np.repeat(d2, nt), t2.ravel())
+        i = np.clip((u * n).astype(np.int64), 0, n - 1)
+        j = np.clip((v * m).astype(np.int64), 0, m - 1)
+        near = dist[i, j].reshape(len(d), nt) <= (margin + half_cell)[:, None]
+        inside |= ok & near
     pad = np.pad(inside, ((0, 0), (1, 1)))
     starts = np.argwhere(pad[:, 1:-1] & ~pad[:, :-2])
     ends = np.argwhere(pad[:, 1:-1] & ~pad[:, 2:])

@@ -1,0 +1,88 @@
+"""Edge overrun: a section that ends on the footprint's edge runs on past it.
+
+A 3-axis pass that stops with its last CC point on the part's edge leaves the edge row
+between two passes higher than the scallop inside: the tool's swept profile across the
+feed only forms the designed cusp where both neighbouring passes sweep the tool over the
+point, and at a section's end the tool stops with its centre short of the edge wherever
+the surface rises towards it (measured on Choi's surface by the cut simulation: 0.41 mm
+in the last 0.1 mm row against 0.25 mm inside, h_c 0.254). So every section end that lies
+on the footprint's boundary gets ``n`` more CL points, spread over ``length`` mm (the
+cutter's radius) beyond it along the travel direction in XY: the tool keeps its height
+from the drop-cutter (it touches the part's edge and nowhere penetrates it) until its
+centre has passed the edge.
+
+The extra points hold no CC point (``on_part`` False): their CC fields repeat the end
+point's, shifted in XY; their moves count in the plan's lengths.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["edge_overrun"]
+
+
+def edge_overrun(points: dict, sec_start, sec_count, at_head, at_tail, head_length,
+                 tail_length, ahead=None, n: int = 3):
+    """Insert the overrun points. ``points``: per-point arrays in machining order (must hold
+    ``p`` and ``tangent``); ``at_head`` / ``at_tail`` (S,): the section's first / last point
+    lies on the footprint's edge; ``head_length`` / ``tail_length`` (S,) mm: how far past
+    the first / last CC point the tool's centre goes; ``ahead`` (N,): how far along the travel the tool's centre already
+    is from each CC point (a vertical cutter tangent on a slope sits downhill of its
+    contact), so only the rest is added. Returns (points with the new rows,
+    sec_start, sec_count, on_part (N',), shift (N', 3) the XY offset of each row from the
+    point it repeats, (seg_sec, seg_len) of the added moves)."""
+    sec_start, sec_count = np.asarray(sec_start), np.asarray(sec_count)
+    head = np.where(at_head, n, 0)
+    tail = np.where(at_tail, n, 0)
+    count = sec_count + head + tail
+    start = np.cumsum(count) - count
+    owner = np.repeat(np.arange(len(count)), count)
+    j = np.arange(owner.size) - start[owner]  # position in the new section
+    h, c = head[owner], sec_count[owner]
+    body = np.clip(j - h, 0, c - 1)
+    src = sec_start[owner] + body
+    # how many steps before the first point (< 0) or after the last one (> 0)
+    steps = np.where(j < h, j - h, np.where(j >= h + c, j - h - c + 1, 0))
+    t = points["tangent"][src].copy()
+    t[:, 2] = 0.0
+    t /= np.maximum(np.linalg.norm(t, axis=1, keepdims=True), 1e-300)
+    length = np.where(steps < 0, np.asarray(head_length)[owner], np.asarray(tail_length)[owner])
+    reach = length - (0.0 if ahead is None else np.sign(steps) * ahead[src])
+    step_len = np.maximum(reach, 0.0) / n
+    shift = t * (steps * step_len)[:, None]
+    out = {k: v[src] for k, v in points.items()}
+    out["p"] = out["p"] + shift
+    if "chord" in out:
+        out["chord"] = np.where(steps == 0, out["chord"], 0.0)
+    added = steps != 0
+    return out, start, count, ~added, shift, (owner[added], step_len[added])
+
+
+def refine_overrun_moves(points: dict, cutter, surface, tolerance: float, rounds: int = 8):
+    """Split the straight moves that touch an overrun point (``on_part`` False at either
+    end) until the drop-cutter tip at their quarter and mid XY is within ``tolerance`` (mm)
+    of the move: the tool falling away past the edge follows a curve, and a chord below it
+    would cut into the edge. ``points``: per-point arrays in path order with ``tip``,
+    ``section`` and ``on_part``; an inserted row repeats its left neighbour's other fields.
+    Returns (points, number of points inserted)."""
+    pts = dict(points)
+    q = np.array([0.25, 0.5, 0.75])
+    added = 0
+    for _ in range(rounds):
+        tip, on = pts["tip"], pts["on_part"]
+        i = np.flatnonzero((pts["section"][1:] == pts["section"][:-1]) & ~(on[1:] & on[:-1]))
+        if len(i) == 0:
+            break
+        xy = (1 - q[:, None, None]) * tip[i, :2] + q[:, None, None] * tip[i + 1, :2]
+        chord_z = (1 - q[:, None]) * tip[i, 2] + q[:, None] * tip[i + 1, 2]
+        z = cutter.drop_cutter(surface, xy.reshape(-1, 2)).reshape(3, -1)
+        bad = np.nanmax(np.abs(np.where(np.isfinite(z), z - chord_z, 0.0)), axis=0) > tolerance
+        if not bad.any():
+            break
+        left = i[bad]
+        new_tip = np.column_stack([xy[1][bad], z[1][bad]])
+        for key, arr in pts.items():
+            pts[key] = np.insert(arr, left + 1, new_tip if key == "tip" else arr[left], axis=0)
+        added += len(left)
+    return pts, added
