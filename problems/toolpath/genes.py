@@ -11,7 +11,8 @@ A configuration reads some of these genes (``Planner.gene_names``, in this order
     zones     the zoning method's gene: K (kmeans), k_lz (amas)    the method's
 
 Each gene is either a **variable** of the chromosome, over ``ranges: {name: [lo, hi]}``, or
-**fixed** by ``fixed: {name: value}`` (the tool by its id): a fixed gene is not in the
+**fixed** by ``fixed: {name: value}`` (the tool by its id; a database of one tool fixes
+the tool): a fixed gene is not in the
 chromosome (``n_var``, ``xl``/``xu`` and the pymoo ``variables`` hold only the free genes)
 and its value is inserted when a row is decoded. The phenotype row ``X`` holds the free
 genes in the order above, the tool as its INDEX into the database.
@@ -61,6 +62,8 @@ class GeneSpace:
         absent = dict(absent or {})
         known = list(GENE_ORDER) + list(absent) + ([zone_gene.name] if zone_gene else [])
         self.fixed = self._fixed(fixed, absent, known, zone_gene, zone_value)
+        if len(tools) == 1 and "tool" in self.names:
+            self.fixed.setdefault("tool", 0.0)  # a database of one tool fixes the tool
         self.bounds = self._ranges(ranges, absent, known, zone_gene, zone_range)
         self.free = tuple(n for n in self.names if n not in self.fixed)
         self.xl = np.array([0.0 if n == "tool" else self.bounds[n][0] for n in self.free])

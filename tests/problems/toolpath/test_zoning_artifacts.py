@@ -1,5 +1,6 @@
-"""Result files of a ``toolpath_zoning`` run: zone map, CC pattern, APT file with a section per
-pass of each zone; the APT file is the plan ``evoplan simulate --run`` cuts."""
+"""Result files of a zoned ``toolpath`` run (3-axis, K-means: the former ``toolpath_zoning``):
+zone map, CC pattern, APT file with a section per pass of each zone; the APT file is the plan
+``evoplan simulate --run`` cuts."""
 
 from __future__ import annotations
 
@@ -20,8 +21,19 @@ from tests.test_cli import evoplan, write
 ZONED_RUN = """
 seed: 1
 problem:
-  name: toolpath_zoning
-  params: {surface: choi, mesh: [20, 20], method: kmeans, zones: [3, 4]}
+  name: toolpath
+  params:
+    surface: choi
+    tools: [{id: 1, type: ball, diameter: 6.35}, {id: 2, type: toroidal, diameter: 6.35, corner_radius: 1},
+            {id: 4, type: flat, diameter: 6.35}]
+    machine: 3axis
+    spacing: scallop
+    feed_angle: optimized
+    zoning: {method: kmeans, mesh: [20, 20], merge: false}
+    ranges: {zones: [3, 4]}
+    fixed: {step: 1}
+    weights: {eq4_total: 1}
+    normalization: {eq4_total: [0, 1]}
 algorithm: {name: vega, population: 4, virus: {count: 1}}
 termination: {generations: 2}
 """

@@ -1,0 +1,192 @@
+"""The one ``problem: toolpath``: its configurations, genes (free or fixed), errors and runs."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from evoplan.problems.toolpath import ToolpathProblem
+from evoplan.problems.toolpath.zoned import CHOI_TOOLS, ZonedToolpathProblem, zoning_config
+from tests.test_cli import evoplan, write
+
+NORM = {"machining_error": [0.0, 1.0], "cc_count": [0.0, 2000.0]}
+ZONED = dict(surface="choi", tools=CHOI_TOOLS[:2], machine="5axis", feed_angle="optimized",
+             zoning={"method": "kmeans", "mesh": [12, 12], "merge": False}, normalization=NORM)
+
+
+@pytest.fixture(scope="module")
+def zoned():
+    """Choi, 5-axis, K-means zones: all six genes free."""
+    return ToolpathProblem(**ZONED)
+
+
+def test_all_genes_decode_in_chromosome_order(zoned, fountas_problem):
+    assert list(zoned.variables) == ["tool", "stepover", "lead", "tilt", "step", "zones"]
+    assert zoned.n_var == 6 and zoned.fixed == {}
+    np.testing.assert_array_equal(zoned.xl, [0, 20, 0, 0, 5, 1])
+    np.testing.assert_array_equal(zoned.xu, [1, 45, 5, 2, 10, 8])
+    X = np.array([[1.4, 30.0, 2.5, 1.0, 6.0, 2.6]])
+    genes = zoned.genes.decode(X)
+    assert genes["tool"].tolist() == [1] and genes["zones"].tolist() == [3.0]  # rounded
+    assert genes["stepover"][0] == 30.0 and genes["lead"][0] == 2.5 and genes["tilt"][0] == 1.0
+    assert genes["step"][0] == 6.0
+    assert zoned.genes.named(X[0]) == {"tool": 2, "stepover": 30.0, "lead": 2.5, "tilt": 1.0,
+                                       "step": 6.0, "zones": 3}
+    # the plan reads every gene: the tool's diameter scales the spacing, the step the points
+    batch, _ = fountas_problem.plan(np.array([[5, 41.7, 3, 0, 5.0], [5, 41.7, 3, 0, 9.5]]))
+    longest = [batch.seg_len[batch.seg_ind == i].max() for i in (0, 1)]
+    assert longest[0] <= 5 + 1e-9 < longest[1] <= 9.5 + 1e-9  # the step bounds the CC spacing
+    crit = zoned.criteria(np.array([[1, 30, 2, 0, 6, 1], [1, 30, 2, 0, 6, 4]]))
+    assert crit["zones"][0] == 1 and crit["zones"][1] >= 2
+    np.testing.assert_allclose(crit["eq4_total"], crit["cutting_length"] + (crit["zones"] - 1) * 40)
+
+
+def test_a_fixed_gene_leaves_the_chromosome_and_the_plan_uses_its_value():
+    p = ToolpathProblem(**{**ZONED, "fixed": {"lead": 3.0, "tool": 2, "zones": 1}})
+    assert list(p.variables) == ["stepover", "tilt", "step"] and p.n_var == 3
+    assert p.fixed == {"lead": 3.0, "tool": 2, "zones": 1}
+    np.testing.assert_array_equal(p.xl, [20, 0, 5])
+    genes = p.genes.decode(np.array([[30.0, 0.0, 6.0]]))
+    assert genes["lead"].tolist() == [3.0] and genes["tool"].tolist() == [1]
+    batch, _ = p.plan(np.array([[30.0, 0.0, 6.0]]))
+    lead = np.degrees(np.arcsin(np.einsum("ij,ij->i", batch.axis, batch.tangent)))
+    np.testing.assert_allclose(lead, 3.0, atol=1e-9)
+    # the same plan as the free problem given the fixed values
+    free = ToolpathProblem(**ZONED)
+    c_fixed = p.evaluate_params({"stepover": 30, "tilt": 0, "step": 6})
+    c_free = free.evaluate_params({"tool": 2, "stepover": 30, "lead": 3, "tilt": 0, "step": 6,
+                                   "zones": 1})
+    assert c_fixed == c_free
+    # a fixed gene may be named with its own value only
+    assert p.evaluate_params({"stepover": 30, "tilt": 0, "step": 6, "lead": 3}) == c_fixed
+    with pytest.raises(ValueError, match=r"^params.lead: fixed at 3 by the problem's config$"):
+        p.evaluate_params({"stepover": 30, "tilt": 0, "step": 6, "lead": 4})
+
+
+def _error(**kw):
+    with pytest.raises(ValueError) as exc:
+        ToolpathProblem(**{"normalization": NORM, **kw})
+    msg = str(exc.value)
+    assert "\n" not in msg
+    return msg
+
+
+def test_bad_configurations_are_one_line_naming_the_key():
+    z = {"method": "kmeans", "mesh": [8, 8]}
+    assert _error(machine="4axis").startswith("machine: expected one of 5axis, 3axis")
+    assert _error(machine="3axis", ranges={"lead": [0, 3]}) == \
+        "ranges.lead: not a gene of this configuration (machine 3axis has no lead/tilt)"
+    assert _error(ranges={"zones": [1, 3]}) == \
+        "ranges.zones: not a gene of this configuration (zoning method single has no gene)"
+    assert _error(zoning=z, fixed={"k_lz": 0.2}).startswith(
+        "fixed.k_lz: not a gene of this configuration (zoning method kmeans's gene is zones)")
+    assert _error(spacing="scallop", fixed={"stepover": 30}).startswith(
+        "fixed.stepover: not a gene of this configuration (spacing scallop")
+    assert _error(fixed={"tilt": 95}) == "fixed.tilt: angles must lie in (-90, 90) degrees, got 95"
+    assert _error(fixed={"tool": 12}).startswith("fixed.tool: no tool with id 12")
+    assert _error(zoning=z, fixed={"zones": 0}).startswith("fixed.zones: ")
+    assert _error(zoning=z, fixed={"zones": 2.5}) == "fixed.zones: expected an integer, got 2.5"
+    assert _error(zoning=z, ranges={"zones": [1, 65]}).startswith(
+        "ranges.zones: expected integers in [1, 64]")
+    assert _error(ranges={"lead": 0}).startswith("ranges.lead: expected [lo, hi], got 0 (to fix")
+    assert _error(ranges={"lead": [0, 1]}, fixed={"lead": 0}).startswith("ranges.lead: lead is fixed")
+    assert _error(ranges={"tool": [1, 2]}).startswith("ranges.tool: the tool is a choice")
+    assert _error(fixed={"speed": 1}).startswith("fixed.speed: unknown gene")
+    assert _error(zoning={"method": "voronoi"}).startswith("zoning.method: expected one of")
+    assert _error(zoning={"method": "kmeans", "colour": 1}).startswith("zoning.colour: unknown")
+    assert _error(zoning={**z, "settings": {"K": 3}}).startswith(
+        "zoning.settings.K: set by the gene zones (fix it with fixed: {zones: 3})")
+    assert _error(zoning={**z, "merge": {"min_zone_area": 2}}).startswith("zoning.merge.min_zone_area:")
+    assert _error(zoning={**z, "mesh": [0, 5]}).startswith("zoning.mesh: a mesh needs")
+    assert _error(feed_angle="sideways").startswith("feed_angle: expected a number of degrees")
+    assert _error(placement="drop").startswith("placement: only a 3-axis machine")
+    assert _error(spacing="helical").startswith("spacing: expected one of stepover, scallop")
+    assert _error(weights={"objective": 1}).startswith("weights.objective:")
+
+
+def test_single_zone_gives_todays_toolpath_numbers_on_the_table2_sets(fountas_problem):
+    # the figures of the former evaluator (ToolpathSimulator) for Fountas' VEGA set
+    c = fountas_problem.evaluate_params(dict(tool=6, stepover=41.729, lead=2.957, tilt=0.027,
+                                             step=6.338))
+    assert c["cc_count"] == 289 and c["n_passes"] == 17 and c["zones"] == 1
+    assert c["scallop_max"] == pytest.approx(0.16688700101052756, rel=1e-12)
+    assert c["machining_error"] == pytest.approx(0.1762670011486136, rel=1e-12)
+    assert c["cutting_length"] == pytest.approx(1650.9494277547933, rel=1e-12)
+    assert c["path_length"] == pytest.approx(1766.3375151459838, rel=1e-12)
+    old = fountas_problem.simulator.criteria(fountas_problem.row(
+        dict(tool=6, stepover=30.791, lead=3.379, tilt=0.040, step=8.451)))
+    new = fountas_problem.evaluate_params(dict(tool=6, stepover=30.791, lead=3.379, tilt=0.040,
+                                               step=8.451))
+    for key in ("cc_count", "n_passes", "chord_error_mean", "scallop_max", "gouge_max",
+                "machining_error", "cutting_length", "link_length", "machining_time"):
+        assert new[key] == pytest.approx(float(old[key][0]), rel=1e-9), key
+
+
+def test_the_old_zoning_problem_is_a_configuration_of_toolpath():
+    config = zoning_config(mesh=(10, 10), zones=(1, 3))
+    assert config["machine"] == "3axis" and config["spacing"] == "scallop"
+    assert config["fixed"] == {"step": 1.0} and config["ranges"] == {"zones": (1, 3)}
+    old = ZonedToolpathProblem(mesh=(10, 10), zones=(1, 3))
+    new = ToolpathProblem(**config)
+    assert list(old.variables) == list(new.variables) == ["tool", "zones"]
+    X = np.array([[0, 1], [1, 2]], float)
+    c = old.criteria(X)
+    np.testing.assert_array_equal(c["total_length"], new.criteria(X)["eq4_total"])
+    np.testing.assert_array_equal(old.evaluate(X)[:, 0], c["total_length"])  # F in mm
+    with pytest.raises(ValueError, match=r"^zones: expected integers in \[1, 100\]"):
+        ZonedToolpathProblem(mesh=(10, 10), zones=(1, 101))
+    with pytest.raises(ValueError, match=r"^method: 'single' has no setting to optimize"):
+        ZonedToolpathProblem(mesh=(10, 10), method="single")
+
+
+RUN = """
+seed: 1
+problem:
+  name: toolpath
+  params: {params}
+{extra}algorithm: {{name: vega, population: 4, virus: {{count: 1}}}}
+termination: {{generations: 2}}
+"""
+CHOI_3AXIS = ("{surface: choi, tools: [{id: 1, type: ball, diameter: 6.35}], machine: 3axis, "
+              "spacing: scallop, zoning: {method: kmeans, mesh: [12, 12]}, feed_angle: optimized, "
+              "ranges: {zones: [1, 3]}, fixed: {step: 2}, weights: {eq4_total: 1}, "
+              "normalization: {eq4_total: [0, 1]}}")
+
+
+def test_a_zoned_3axis_run_writes_its_plan_files(tmp_path):
+    out = tmp_path / "res"
+    proc = evoplan("run", write(tmp_path / "z.yaml", RUN.format(params=CHOI_3AXIS, extra="")),
+                   "--out", out)
+    assert proc.returncode == 0, proc.stderr
+    best = json.loads((out / "best.json").read_text())
+    assert set(best["variables"]) == {"zones"} and best["objective"] > 100  # mm; one tool: fixed
+    for name in ("zone_map.png", "cc_pattern.png"):
+        assert (out / name).read_bytes()[:4] == b"\x89PNG"
+    apt = (out / "toolpath.apt").read_text().splitlines()
+    assert "TLAXIS/0,0,1" in apt and any(line.startswith("$$ ZONE 0 PASS 0") for line in apt)
+
+
+BAD = {
+    "machine": ("{machine: 4axis}", "", "machine: expected one of 5axis, 3axis"),
+    "lead_3axis": ("{machine: 3axis, ranges: {lead: [0, 2]}}", "", "ranges.lead: not a gene"),
+    "zones_single": ("{ranges: {zones: [1, 4]}}", "", "ranges.zones: not a gene"),
+    "fixed_range": ("{fixed: {tilt: 120}}", "", "fixed.tilt: angles must lie in (-90, 90)"),
+    "fixed_bits": ("{fixed: {lead: 1}}", "  variables: {lead: {bits: 8}}\n",
+                   "variables.lead: fixed at 1 by the problem's params (fixed.lead): not a "
+                   "variable, so it has no bits"),
+}
+
+
+@pytest.mark.parametrize("case", sorted(BAD))
+def test_bad_params_are_one_line_exit_2(tmp_path, case):
+    params, extra, text = BAD[case]
+    params = params[:-1] + ", normalization: {machining_error: [0, 1], cc_count: [0, 2000]}}"
+    cfg = write(tmp_path / f"{case}.yaml", RUN.format(params=params, extra=extra))
+    proc = evoplan("run", cfg, "--out", tmp_path / "res")
+    assert proc.returncode == 2, proc.stderr
+    lines = proc.stderr.strip().splitlines()
+    assert len(lines) == 1 and "Traceback" not in proc.stderr
+    assert text in lines[0] and str(cfg) in lines[0]
+    assert not (tmp_path / "res").exists()
