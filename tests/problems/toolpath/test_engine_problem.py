@@ -166,27 +166,3 @@ def test_a_zoned_3axis_run_writes_its_plan_files(tmp_path):
         assert (out / name).read_bytes()[:4] == b"\x89PNG"
     apt = (out / "toolpath.apt").read_text().splitlines()
     assert "TLAXIS/0,0,1" in apt and any(line.startswith("$$ ZONE 0 PASS 0") for line in apt)
-
-
-BAD = {
-    "machine": ("{machine: 4axis}", "", "machine: expected one of 5axis, 3axis"),
-    "lead_3axis": ("{machine: 3axis, ranges: {lead: [0, 2]}}", "", "ranges.lead: not a gene"),
-    "zones_single": ("{ranges: {zones: [1, 4]}}", "", "ranges.zones: not a gene"),
-    "fixed_range": ("{fixed: {tilt: 120}}", "", "fixed.tilt: angles must lie in (-90, 90)"),
-    "fixed_bits": ("{fixed: {lead: 1}}", "  variables: {lead: {bits: 8}}\n",
-                   "variables.lead: fixed at 1 by the problem's params (fixed.lead): not a "
-                   "variable, so it has no bits"),
-}
-
-
-@pytest.mark.parametrize("case", sorted(BAD))
-def test_bad_params_are_one_line_exit_2(tmp_path, case):
-    params, extra, text = BAD[case]
-    params = params[:-1] + ", normalization: {machining_error: [0, 1], cc_count: [0, 2000]}}"
-    cfg = write(tmp_path / f"{case}.yaml", RUN.format(params=params, extra=extra))
-    proc = evoplan("run", cfg, "--out", tmp_path / "res")
-    assert proc.returncode == 2, proc.stderr
-    lines = proc.stderr.strip().splitlines()
-    assert len(lines) == 1 and "Traceback" not in proc.stderr
-    assert text in lines[0] and str(cfg) in lines[0]
-    assert not (tmp_path / "res").exists()

@@ -33,13 +33,13 @@ seed: 2
 problem:
   name: toolpath
   params: {params}
-algorithm: {{name: vega, population: 8, virus: {{count: 2}}}}
+{extra}algorithm: {{name: vega, population: 8, virus: {{count: 2}}}}
 termination: {{generations: 2}}
 """
 
 
 def test_run_writes_cc_pattern_and_apt_file(tmp_path):
-    cfg = write(tmp_path / "t.yaml", TOOLPATH_RUN.format(params="{surface: fountas}"))
+    cfg = write(tmp_path / "t.yaml", TOOLPATH_RUN.format(params="{surface: fountas}", extra=""))
     proc = evoplan("run", cfg, "--out", tmp_path / "res")
     assert proc.returncode == 0, proc.stderr
     out = tmp_path / "res"
@@ -59,13 +59,22 @@ BAD_PARAMS = {
     "net_nan": ("{surface: {type: bezier, poles: [[[0, 0, .nan], [1, 0, 0]], [[0, 1, 0], [1, 1, 0]]]}}", "surface"),
     "corner_radius": ("{tools: [{id: 1, type: toroidal, diameter: 8, corner_radius: 5}]}", "corner"),
     "weights_sum": ("{weights: {machining_error: 0.7, cc_count: 0.5}}", "weights"),
+    "machine": ("{machine: 4axis}", "machine: expected one of 5axis, 3axis"),
+    "lead_3axis": ("{machine: 3axis, ranges: {lead: [0, 2]}}", "ranges.lead: not a gene of this "
+                   "configuration (machine 3axis has no lead/tilt)"),
+    "zones_single": ("{ranges: {zones: [1, 4]}}", "ranges.zones: not a gene"),
+    "fixed_range": ("{fixed: {tilt: 120}}", "fixed.tilt: angles must lie in (-90, 90)"),
+    "fixed_bits": ("{fixed: {lead: 1}}\n  variables: {lead: {bits: 8}}",
+                   "variables.lead: fixed at 1 by the problem's params (fixed.lead): not a "
+                   "variable, so it has no bits"),
 }
 
 
 @pytest.mark.parametrize("case", sorted(BAD_PARAMS))
 def test_bad_toolpath_input_is_one_line_exit_2(tmp_path, case):
     params, key = BAD_PARAMS[case]
-    cfg = write(tmp_path / f"{case}.yaml", TOOLPATH_RUN.format(params=params))
+    params, _, extra = params.partition("\n")
+    cfg = write(tmp_path / f"{case}.yaml", TOOLPATH_RUN.format(params=params, extra=extra and extra + "\n"))
     proc = evoplan("run", cfg, "--out", tmp_path / "res")
     assert proc.returncode == 2, proc.stderr
     lines = proc.stderr.strip().splitlines()
