@@ -65,6 +65,9 @@ class Planner:
             raise ValueError("h_c: the scallop spacing needs a scallop height h_c (mm)")
         self.surface, self.tools = surface, tools
         self.machine = get_machine(machine, placement)
+        if spacing == "scallop" and self.machine.genes:
+            raise ValueError(f"spacing: the scallop spacing models a vertical cutter (3axis); "
+                             f"a {machine} plan is spaced by stepover")
         self.spacing, self.h_c = spacing, (None if h_c is None else float(h_c))
         self.tolerance, self.max_rounds = float(tolerance), int(max_rounds)
         self.feed_angle = None if feed_angle is None else float(feed_angle)

@@ -82,7 +82,7 @@ def test_bad_configurations_are_one_line_naming_the_key():
         "ranges.zones: not a gene of this configuration (zoning method single has no gene)"
     assert _error(zoning=z, fixed={"k_lz": 0.2}).startswith(
         "fixed.k_lz: not a gene of this configuration (zoning method kmeans's gene is zones)")
-    assert _error(spacing="scallop", fixed={"stepover": 30}).startswith(
+    assert _error(machine="3axis", spacing="scallop", fixed={"stepover": 30}).startswith(
         "fixed.stepover: not a gene of this configuration (spacing scallop")
     assert _error(fixed={"tilt": 95}) == "fixed.tilt: angles must lie in (-90, 90) degrees, got 95"
     assert _error(fixed={"tool": 12}).startswith("fixed.tool: no tool with id 12")
