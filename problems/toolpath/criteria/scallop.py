@@ -25,6 +25,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..geometry.rows import interp_rows
+
 __all__ = [
     "flat_scallop",
     "scallop_height",
@@ -113,13 +115,13 @@ def profile_height(tables, row, x):
 
     tables: (x, z, reach) from ``cutters.silhouette.profile_tables``; returns inf beyond
     the reach.
-    One np.interp over all rows (rows are laid end to end with offsets).
+    Each query in its own row (``geometry.rows.interp_rows``: the result does not depend on
+    the other rows of the batch).
     """
     xt, zt, reach = tables
-    span = float(np.max(reach)) + 1.0
-    off = np.arange(xt.shape[0]) * span
+    row = np.asarray(row)
     xq = np.asarray(x, float)
-    out = np.interp(np.minimum(xq, reach[row]) + off[row], (xt + off[:, None]).ravel(), zt.ravel())
+    out = interp_rows(xt[row], zt[row], np.minimum(xq, reach[row]))
     return np.where(xq > reach[row] * (1 + 1e-12), np.inf, out)
 
 

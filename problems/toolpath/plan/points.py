@@ -24,6 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..geometry.chord import chord_deviation
+from ..geometry.rows import interp_rows
 from .planes import PassGeometry
 
 __all__ = ["SectionPoints", "sample_sections", "ranges"]
@@ -81,9 +82,9 @@ def sample_sections(geom: PassGeometry, d, ta, tb, step, tol: float,
     nseg = np.maximum(np.ceil(length / step - 1e-9).astype(int), 1)
     pt_sec, q = ranges(nseg + 1)
     target = a0[pt_sec] + q / nseg[pt_sec] * length[pt_sec]
-    off = np.arange(n_sec) * (float(arc[:, -1].max(initial=0.0)) + 1.0)
-    tau = np.interp(target + off[pt_sec], (arc + off[:, None]).ravel(),
-                    np.tile(geom.tau_grid, n_sec))
+    # row by row: a plan's points never depend on the other plans of its batch
+    tau = interp_rows(arc[pt_sec], np.broadcast_to(geom.tau_grid, (len(pt_sec), len(geom.tau_grid))),
+                      target)
     tau = np.where(q == 0, ta[pt_sec], np.where(q == nseg[pt_sec], tb[pt_sec], tau))
     u, v, p = geom.locate(d[pt_sec], tau)
     first = np.ones(len(tau), bool)

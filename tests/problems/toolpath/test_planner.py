@@ -148,3 +148,34 @@ def test_edge_overrun_runs_sections_past_the_edge_without_cc_points():
     # the plan's lengths count the overrun moves: the CC polyline of every section
     seg = np.linalg.norm(np.diff(b.p, axis=0), axis=1)[b.pt_sec[1:] == b.pt_sec[:-1]]
     assert float(seg.sum()) == pytest.approx(float(b.seg_len.sum()), rel=1e-9)
+
+
+def test_a_plan_does_not_depend_on_the_other_plans_of_its_batch():
+    """Backends split a population differently (serial, processes, Dask): every plan and
+    every criterion must be the same bit for bit, whatever else is in the batch."""
+    from evoplan.problems.toolpath.criteria.analytic import analytic_criteria
+    from evoplan.problems.toolpath.geometry.rows import interp_rows
+
+    surface, tools = parse_surface("fountas"), parse_tools(None)
+    planner = Planner(surface, tools, machine="5axis")
+    rng = np.random.default_rng(5)
+    n = 8
+    genes = dict(tool=rng.integers(0, 9, n), stepover=rng.uniform(20, 45, n),
+                 lead=rng.uniform(0, 5, n), tilt=rng.uniform(0, 2, n), step=rng.uniform(5, 10, n))
+    kw = dict(allowance=0.5, feed_rate=1000.0, delta_l=40.0)
+    whole = planner.plan(genes)
+    crit = analytic_criteria(whole, surface, tools, genes, **kw)
+    for i in (0, 3, 7):
+        one = {k: v[i:i + 1] for k, v in genes.items()}
+        alone = planner.plan(one)
+        idx = whole.points_of(i)
+        assert np.array_equal(alone.p, whole.p[idx]) and np.array_equal(alone.tip, whole.tip[idx])
+        crit_one = analytic_criteria(alone, surface, tools, one, **kw)
+        for name, values in crit.items():
+            assert np.array_equal(crit_one[name], values[i:i + 1], equal_nan=True), name
+    # the row interpolation is np.interp, row by row
+    xp = np.sort(rng.uniform(0, 10, (50, 7)), axis=1)
+    fp = rng.normal(size=(50, 7))
+    x = rng.uniform(-1, 11, 50)
+    expected = [np.interp(x[i], xp[i], fp[i]) for i in range(50)]
+    assert np.allclose(interp_rows(xp, fp, x), expected, rtol=0, atol=1e-12)

@@ -192,7 +192,7 @@ def test_zone_cli_writes_everything_or_nothing(tmp_path):
 def test_zoning_genes_in_the_toolpath_problem():
     from evoplan.problems.toolpath.plan.zoning.problem import ZonedToolpathProblem
 
-    prob = ZonedToolpathProblem(mesh=(20, 20), zones=(1, 4))
+    prob = ZonedToolpathProblem(mesh=(30, 30), zones=(1, 4))
     assert list(prob.variables) == ["tool", "zones"]
     X = np.array([[0, 1], [1, 1], [1, 2]], float)  # ball 1 zone, torus 1 zone, torus K=2
     c = prob.criteria(X)
