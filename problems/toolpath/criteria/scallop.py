@@ -121,7 +121,7 @@ def profile_height(tables, row, x):
     xt, zt, reach = tables
     row = np.asarray(row)
     xq = np.asarray(x, float)
-    out = interp_rows(xt[row], zt[row], np.minimum(xq, reach[row]))
+    out = interp_rows(xt, zt, np.minimum(xq, reach[row]), row)
     return np.where(xq > reach[row] * (1 + 1e-12), np.inf, out)
 
 

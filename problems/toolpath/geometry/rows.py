@@ -15,19 +15,23 @@ import numpy as np
 __all__ = ["interp_rows"]
 
 
-def interp_rows(xp, fp, x):
-    """For each query i: np.interp(x[i], xp[i], fp[i]) (xp rows ascending, clamped at the
-    ends). xp, fp: (k, m) with m >= 2; x: (k,)."""
+def interp_rows(xp, fp, x, rows=None):
+    """For each query i: np.interp(x[i], xp[r], fp[r]) with r = rows[i] (default i).
+
+    xp: (k, m) tables, each ascending (m >= 2); fp: (k, m) values, or (m,) shared by every
+    table; x: (q,) queries; rows: (q,) table of each query. Clamped at the table's ends.
+    """
     xp, fp, x = np.asarray(xp, float), np.asarray(fp, float), np.asarray(x, float)
-    k, m = xp.shape
-    idx = np.arange(k)
-    lo, hi = np.zeros(k, np.int64), np.full(k, m - 1, np.int64)
+    m = xp.shape[1]
+    r = np.arange(len(x)) if rows is None else np.asarray(rows)
+    lo, hi = np.zeros(len(x), np.int64), np.full(len(x), m - 1, np.int64)
     while np.any(hi - lo > 1):
         mid = (lo + hi) // 2
-        below = xp[idx, mid] <= x
+        below = xp[r, mid] <= x
         lo, hi = np.where(below, mid, lo), np.where(below, hi, mid)
-    a, b = xp[idx, lo], xp[idx, hi]
+    a, b = xp[r, lo], xp[r, hi]
     gap = b - a
     w = np.clip((x - a) / np.where(gap > 0, gap, 1.0), 0.0, 1.0)
     w = np.where(gap > 0, w, (x >= b).astype(float))
-    return fp[idx, lo] + w * (fp[idx, hi] - fp[idx, lo])
+    f_lo, f_hi = (fp[lo], fp[hi]) if fp.ndim == 1 else (fp[r, lo], fp[r, hi])
+    return f_lo + w * (f_hi - f_lo)

@@ -83,8 +83,7 @@ def sample_sections(geom: PassGeometry, d, ta, tb, step, tol: float,
     pt_sec, q = ranges(nseg + 1)
     target = a0[pt_sec] + q / nseg[pt_sec] * length[pt_sec]
     # row by row: a plan's points never depend on the other plans of its batch
-    tau = interp_rows(arc[pt_sec], np.broadcast_to(geom.tau_grid, (len(pt_sec), len(geom.tau_grid))),
-                      target)
+    tau = interp_rows(arc, geom.tau_grid, target, pt_sec)
     tau = np.where(q == 0, ta[pt_sec], np.where(q == nseg[pt_sec], tb[pt_sec], tau))
     u, v, p = geom.locate(d[pt_sec], tau)
     first = np.ones(len(tau), bool)
