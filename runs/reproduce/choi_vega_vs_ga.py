@@ -1,0 +1,247 @@
+"""VEGA against the GA over all the decisions of a zoned 3-axis plan of Choi's surface.
+
+    python runs/reproduce/choi_vega_vs_ga.py [--quick] [--grid 0.2] [--out results/reproduce/choi_vega_vs_ga]
+        [--backend processes --workers 2] [--md runs/reproduce/choi_vega_vs_ga.md]
+
+Runs (or resumes: finished runs are reused) the study ``runs/choi_toolpath_vega_vs_ga.yaml``:
+the problem and objective of ``runs/choi_toolpath_zoned_vega.yaml`` (checked to be the same
+params, and VEGA the same settings), 10 seeds per algorithm, paired by repetition, an equal
+budget of distinct evaluations. Then prints and writes:
+
+- per seed, each algorithm's best objective within the budget; per algorithm the median,
+  quartiles, best, the evaluations, cache hits and run time;
+- the Wilcoxon signed-rank test (paired by seed) and the Mann-Whitney U test (unpaired), both
+  two-sided, with the rank-biserial effect (negative: VEGA lower, i.e. better);
+- the convergence curves (best so far against distinct evaluations, every run and the
+  median), ``choi_vega_vs_ga_convergence.png``;
+- for each algorithm's overall best plan: its decisions, its analytic criteria (Eq. 4 total,
+  cutting length, analytic scallop max, CC count, zones) and what the cut simulation
+  (``--grid`` mm cells, rays along the normal, allowance 0.5 mm) leaves: scallop max / p99 /
+  mean, gouge max, uncut share; the deviation map of the better one,
+  ``choi_vega_vs_ga_best.png``.
+
+``--quick``: 3 seeds, 120 distinct evaluations, a 0.25 mm grid.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import time
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from evoplan import figure_style as fs
+from evoplan.config import read_yaml
+from evoplan.problems.toolpath.problem import ToolpathProblem
+from evoplan.problems.toolpath.simulation import cell_labels, design_grid, residual_metrics, sweep_path
+from evoplan.problems.toolpath.simulation.figures import deviation_map_png
+from evoplan.study.config import algorithm_settings, load_study
+from evoplan.study.report import markdown_table
+from evoplan.study.runner import run_study
+from evoplan.study.statistics import paired, unpaired
+
+HERE = Path(__file__).resolve().parent
+ROOT = HERE.parents[1]
+STUDY = ROOT / "runs" / "choi_toolpath_vega_vs_ga.yaml"
+RUN_FILE = ROOT / "runs" / "choi_toolpath_zoned_vega.yaml"
+ALLOWANCE = 0.5
+ALGORITHMS = ("ga", "vega")
+
+
+def check_same_setup(study) -> None:
+    """The study's problem params and VEGA settings are the run file's (SystemExit if not)."""
+    run = read_yaml(RUN_FILE)
+    if study.problems[0].params != run["problem"]["params"]:
+        raise SystemExit(f"{STUDY.name}: problem params differ from {RUN_FILE.name}'s")
+    mine = dict(next(a for a in study.algorithms if a["name"] == "vega"))
+    theirs = algorithm_settings(run["algorithm"], "algorithm", RUN_FILE.name)[1]
+    if algorithm_settings(mine, "algorithm", STUDY.name)[1] != theirs:
+        raise SystemExit(f"{STUDY.name}: VEGA's settings differ from {RUN_FILE.name}'s")
+
+
+def fmt_frame(frame: pd.DataFrame, digits: int = 5) -> pd.DataFrame:
+    """Floats as text to ``digits`` significant digits (the objective differs in the 3rd)."""
+    return frame.apply(lambda col: col.map(lambda v: f"{v:.{digits}g}") if col.dtype.kind == "f" else col)
+
+
+def best_so_far(trace: pd.DataFrame, grid: np.ndarray) -> np.ndarray:
+    """The best value among the first e evaluations, for each e of ``grid`` (nan before any)."""
+    e, f = trace["evaluation"].to_numpy(), trace["best"].to_numpy()
+    i = np.searchsorted(e, grid, side="right") - 1
+    return np.where(i >= 0, f[np.maximum(i, 0)], np.nan)
+
+
+def convergence_png(runs: pd.DataFrame, folder: Path, budget: int) -> bytes:
+    fig, (ax, bx) = fs.figure(2, width=4.4, height=3.3)
+    grid = np.arange(1, budget + 1)
+    finals = []
+    for i, alg in enumerate(ALGORITHMS):
+        style = fs.variant_style(i)
+        rows = runs[runs["algorithm"] == alg]
+        curves = np.array([best_so_far(pd.read_csv(folder / "traces" / f"{k}.csv"), grid)
+                           for k in rows["key"]])
+        for c in curves:
+            ax.plot(grid, c, color=style["color"], lw=0.6, alpha=0.35)
+        ax.plot(grid, np.nanmedian(curves, axis=0), color=style["color"], lw=2.0,
+                label=f"{alg}: median of {len(curves)} runs")
+        ax.plot([], [], color=style["color"], lw=0.6, alpha=0.5, label=f"{alg}: each run")
+        finals.append(rows["final_best"].to_numpy())
+    ax.set_xlabel("distinct evaluations")
+    ax.set_ylabel("best objective so far (Eq. 9)")
+    lo = min(np.min(f) for f in finals)
+    ax.set_ylim(lo - 0.002, lo + 0.03)
+    ax.set_title("Convergence (zoomed near the best)", fontsize=9)
+    fs.boxes(bx, finals, list(ALGORITHMS))
+    bx.set_ylabel(f"best objective within {budget} evaluations")
+    bx.set_title("Final values, one point per seed", fontsize=9)
+    fs.figure_legend(fig)
+    return fs.png(fig)
+
+
+def plan_row(problem: ToolpathProblem, params: dict, grid) -> dict:
+    """The analytic criteria and the simulated cut of one decision set."""
+    crit = problem.evaluate_params(params)
+    path, labels = problem.cl_path(params)
+    res = sweep_path(path, grid)
+    sim = residual_metrics(grid, res.values, allowance=ALLOWANCE)
+    return {"crit": crit, "sim": sim, "residual": res.values, "labels": labels}
+
+
+def fmt_params(p: dict, tools) -> str:
+    tool = tools.tools[tools.index_of(p["tool"])].label()
+    return (f"tool {p['tool']} ({tool}), step-over {p['stepover']:.2f} % of D, "
+            f"step {p['step']:.3f} mm, K-means K {p['zones']}")
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--quick", action="store_true", help="3 seeds, 120 evaluations, 0.25 mm grid")
+    ap.add_argument("--grid", type=float, default=0.2, help="simulation cell (mm)")
+    ap.add_argument("--out", default="results/reproduce/choi_vega_vs_ga", help="study folder")
+    ap.add_argument("--backend", default="processes")
+    ap.add_argument("--workers", type=int, default=2)
+    ap.add_argument("--md", default=None, help="report (default: runs/reproduce/choi_vega_vs_ga.md, "
+                    "with --quick the study folder); the PNGs are written beside it")
+    args = ap.parse_args()
+    t_start = time.perf_counter()
+    study = load_study(STUDY)
+    check_same_setup(study)
+    if args.quick:
+        study = study.model_copy(update={"seeds": 3, "budget": study.budget.model_copy(
+            update={"evaluations": 120})})
+    grid_mm = 0.25 if args.quick else args.grid
+    budget = int(study.budget.evaluations)
+    out = Path(args.out + ("_quick" if args.quick else ""))
+    md = Path(args.md) if args.md else (out / "choi_vega_vs_ga.md" if args.quick else HERE / "choi_vega_vs_ga.md")
+    md.parent.mkdir(parents=True, exist_ok=True)
+    t0 = time.perf_counter()
+    run_study(study, str(STUDY), out, backend=args.backend, workers=args.workers, progress=False)
+    t_study = time.perf_counter() - t0
+    ran = [e for e in json.loads((out / "execution.json").read_text()) if e["ran"]]
+    runs = pd.read_csv(out / "runs.csv")
+    if (runs["status"] != "ok").any():
+        raise SystemExit(f"failed runs: {runs.loc[runs['status'] != 'ok', ['key', 'error']]}")
+
+    wide = runs.pivot(index="repetition", columns="algorithm", values="final_best")
+    seeds = runs[runs["algorithm"] == "ga"].set_index("repetition")["seed"]
+    per_seed = pd.DataFrame({"repetition": wide.index, "seed": seeds.loc[wide.index].to_numpy(),
+                             **{f"{a} best": wide[a].to_numpy() for a in ALGORITHMS},
+                             "vega - ga": (wide["vega"] - wide["ga"]).to_numpy()})
+    g = runs.groupby("algorithm")
+    summary = pd.DataFrame({
+        "runs": g.size(), "median": g["final_best"].median(), "q1": g["final_best"].quantile(0.25),
+        "q3": g["final_best"].quantile(0.75), "IQR": g["final_best"].quantile(0.75) - g["final_best"].quantile(0.25),
+        "best": g["final_best"].min(), "worst": g["final_best"].max(),
+        "evaluations (median)": g["evaluations"].median(), "cache hits (median)": g["cache_hits"].median(),
+        "generations (median)": g["generations"].median(),
+        "run time s (median)": g["wall_seconds"].median(), "run time s (total)": g["wall_seconds"].sum(),
+    }).reset_index()
+    x, y = wide["vega"].to_numpy(), wide["ga"].to_numpy()
+    n, med, w, p_w, r_w = paired(x, y)
+    _, mdu, u, p_u, r_u = unpaired(x, y)
+    tests = pd.DataFrame([
+        {"test": "Wilcoxon signed-rank (paired by seed)", "n": n, "median difference": med,
+         "statistic": w, "p": p_w, "rank-biserial": r_w},
+        {"test": "Mann-Whitney U (unpaired)", "n": n, "median difference": mdu,
+         "statistic": u, "p": p_u, "rank-biserial": r_u}])
+    png = convergence_png(runs, out, budget)
+    conv_path = md.with_name(md.stem + "_convergence.png")
+    conv_path.write_bytes(png)
+
+    problem = ToolpathProblem(**study.problems[0].params)
+    grid = design_grid(problem.surface, grid_mm)
+    best_rows, plans = [], {}
+    t0 = time.perf_counter()
+    for alg in ALGORITHMS:
+        r = runs[runs["algorithm"] == alg].sort_values("final_best").iloc[0]
+        params = json.loads(r["best_variables"])
+        plans[alg] = plan_row(problem, params, grid)
+        c, s = plans[alg]["crit"], plans[alg]["sim"]
+        best_rows.append({
+            "algorithm": alg, "seed": str(int(r["seed"])), "decisions": fmt_params(params, problem.tool_db),
+            "objective (Eq. 9)": f"{c['objective']:.5f}", "Eq. 4 total (mm)": f"{c['eq4_total']:.1f}",
+            "cutting length (mm)": f"{c['cutting_length']:.1f}",
+            "zones after merging": f"{c['zones']:.0f}", "CC points": f"{c['cc_count']:.0f}",
+            "analytic scallop max (mm)": f"{c['scallop_max']:.3f}",
+            "sim. scallop max (mm)": f"{s['scallop_max_mm']:.3f}",
+            "sim. scallop p99 (mm)": f"{s['scallop_p99_mm']:.3f}",
+            "sim. scallop mean (mm)": f"{s['scallop_mean_mm']:.4f}",
+            "sim. gouge max (mm)": f"{s['gouge_max_mm']:.4f}",
+            "uncut (% of area)": f"{100 * s['uncut_fraction']:.2f}",
+            "meets h_c": "yes" if s["scallop_p99_mm"] < 0.254 and s["scallop_max_mm"] <= 1.1 * 0.254
+            else "no"})
+        plans[alg]["params"] = params
+    t_sim = time.perf_counter() - t0
+    top = min(ALGORITHMS, key=lambda a: plans[a]["crit"]["objective"])
+    map_path = md.with_name(md.stem + "_best.png")
+    labels = plans[top]["labels"]
+    map_png = deviation_map_png(grid, plans[top]["residual"], tolerance=0.254, allowance=ALLOWANCE,
+                                labels=None if labels is None else cell_labels(grid, labels),
+                                title=f"Choi, best {top.upper()} plan: "
+                                      f"{fmt_params(plans[top]['params'], problem.tool_db)}, "
+                                      f"{plans[top]['crit']['zones']:.0f} after merging")
+    map_path.write_bytes(map_png)
+    wall = time.perf_counter() - t_start
+
+    cmd = "python runs/reproduce/choi_vega_vs_ga.py" + (" --quick" if args.quick else f" --grid {args.grid:g}")
+    made = "; ".join(f"{e['ran']} runs in {e['wall_seconds']:.0f} s on {e['backend']} ({e['workers']} workers)"
+                     for e in ran)
+    lines = [
+        "# VEGA against the GA over all the decisions of a zoned 3-axis plan of Choi's surface", "",
+        f"Generated by `{cmd}` (study folder `{out}`).", "",
+        (f"Study `runs/{STUDY.name}`: the problem and Eq. 9 objective of `runs/{RUN_FILE.name}` "
+        f"(checked equal), {study.seeds} seeds, an equal budget of {budget} DISTINCT evaluations "
+        "per run (cache budget `distinct`: a genotype asked for again is looked up and not "
+        f"charged; a run's value is its best among its first {budget} evaluations). Both "
+        "algorithms: population 12, elitism 1, single-point crossover 0.9 and mutation 0.5; "
+        "VEGA adds 3 viruses of length <= 8. Lead and tilt are not decisions: the machine is "
+        "3-axis (vertical tool axis)."), "",
+        (f"Runs: {made}. Whole script: {wall:.0f} s (study {t_study:.0f} s this invocation, "
+        f"simulation of the two best plans {t_sim:.0f} s)."), "",
+        "## Best objective per seed (lower is better)", "", markdown_table(fmt_frame(per_seed)), "",
+        "## Per algorithm", "", markdown_table(fmt_frame(summary)), "",
+        "Rank tests, VEGA against the GA, two-sided (rank-biserial < 0: VEGA mostly lower):", "",
+        markdown_table(fmt_frame(tests, 3)), "",
+        f"![convergence]({conv_path.name})", "",
+        (f"## The best plan of each algorithm (simulated on a {grid_mm:g} mm grid, "
+        f"{grid.shape[1]} x {grid.shape[0]} cells; meets h_c: p99 < 0.254 mm and max <= 0.279 mm)"), "",
+        markdown_table(pd.DataFrame(best_rows).set_index("algorithm").T.reset_index()
+                       .rename(columns={"index": ""})), "",
+        f"![deviation map of the best {top.upper()} plan]({map_path.name})", "",
+    ]
+    text = "\n".join(lines) + "\n"
+    md.write_text(text if args.quick else text + READING)
+    print(text)
+    print(f"wrote {conv_path} ({len(png) // 1024} kB), {map_path} ({len(map_png) // 1024} kB)")
+
+
+READING = """## Reading
+
+(Written from the figures above.)
+"""
+
+if __name__ == "__main__":
+    main()
