@@ -2,7 +2,7 @@
 
 Roughing from a block (Abbas' morphing layers or z-level, flat end mill, zig-zag, checked on a
 stock Z-map), semi-finish (ball end on the exact normal offset, 3-axis) and finish (the
-evoplan toolpath problem's 5-axis plan, its parameters from the file or from a finished run's
+evoplan toolpath problem's plan, its parameters from the file or from a finished run's
 ``best.json`` with ``--from-run``; or a 3-axis ball on the offset). Writes ``roughing.nc``,
 ``semifinish.nc``, ``finish.nc`` in the post's dialect, the matching ``.apt`` files,
 ``surface.dxf``, ``surface.stl``, ``toolpaths.dxf``, ``layers.png`` and ``summary.json``
@@ -126,12 +126,20 @@ def load(path: str) -> MachineConfig:
 
 
 def plan_from_run(run: Path) -> tuple[dict, dict]:
-    """(variables, toolpath problem params) of a finished run folder; ConfigError if unusable."""
+    """(variables, toolpath problem params) of a finished run folder (a ``toolpath_zoning`` run's
+    params translated to ``toolpath``'s); ConfigError if unusable."""
     try:
         best = json.loads((run / "best.json").read_text())
-        params = read_yaml(run / "config.yaml").get("problem", {}).get("params", {}) or {}
-        variables = best["variables"]
-        return {k: variables[k] for k in ("tool", "stepover", "lead", "tilt", "step")}, dict(params)
+        problem = read_yaml(run / "config.yaml").get("problem", {})
+        params = dict(problem.get("params", {}) or {})
+        if problem.get("name") == "toolpath_zoning":
+            from ..problems.toolpath.zoned import zoning_config
+
+            params = zoning_config(**params)
+        elif problem.get("name", "toolpath") != "toolpath":
+            raise ValueError(f"problem {problem.get('name')!r} is not a toolpath problem")
+        variables = dict(best["variables"])
+        return variables, {k: v for k, v in params.items() if v is not None}
     except (OSError, ValueError, KeyError, TypeError, AttributeError) as e:
         raise ConfigError(f"{run}: --from-run: not a finished toolpath run ({str(e).splitlines()[0]})") from None
 

@@ -20,7 +20,7 @@ from ..geometry.spec import parse_surface
 from .figures import layers_png
 from .operations import ball_on_offset, block_stock, finish_from_plan, roughing
 
-PLAN_KEYS = ("feed_rate", "tolerance", "feed_angle", "allowance", "tools")
+PLAN_KEYS = ("feed_rate", "tolerance", "feed_angle", "allowance", "tools", "ranges")
 
 
 def _tool(c: dict) -> Tool:
@@ -36,10 +36,22 @@ def _kinematics(k: dict) -> Kinematics:
         raise ValueError(f"post.kinematics: {e}") from None
 
 
-def _finish_plan(surface, cfg: dict, plan):
-    from ..simulator import ToolpathSimulator
-    from ..tools import parse_tools
+def _finish_problem(surface, params: dict):
+    """The toolpath problem that plans the finish: the run's (or the file's) params on this
+    surface. Only one plan is made, so the objective's normalization design is skipped (any
+    weights and normalization: the path does not depend on them)."""
+    from ..problem import ToolpathProblem
 
+    params = {k: v for k, v in params.items() if k not in ("weights", "objectives",
+                                                         "normalization", "simulation")}
+    return ToolpathProblem(**params, surface=surface, weights={"cc_count": 1.0},
+                           normalization={"cc_count": [0.0, 1.0]}, criteria="analytic")
+
+
+def _finish_plan(surface, cfg: dict, plan):
+    """(Toolpath, variables) of the finish: the decision set of ``finish.params`` with
+    ``finish.problem``, or a finished run's best decision set with the run's whole problem
+    (``plan``: (variables, params); a zoned or 3-axis run gives its own plan)."""
     fin = cfg["finish"]
     if plan is not None:
         variables, run_params = plan
@@ -47,26 +59,24 @@ def _finish_plan(surface, cfg: dict, plan):
         uv = np.linspace(0, 1, 7)
         if not np.allclose(run_surface.points(uv, uv[::-1]), surface.points(uv, uv[::-1]), atol=1e-6):
             raise ValueError("surface: the --from-run run optimized another surface")
-        params = {k: run_params[k] for k in PLAN_KEYS if k in run_params}
+        params = {k: v for k, v in run_params.items() if k != "surface"}
+        where = "--from-run"
     else:
         variables, params = fin["params"], dict(fin["problem"])
-    unknown = set(params) - set(PLAN_KEYS)
-    if unknown:
-        raise ValueError(f"finish.problem.{sorted(unknown)[0]}: unknown (known: {', '.join(PLAN_KEYS)})")
-    tools = parse_tools(params.get("tools"), "finish.problem.tools")
-    sim = ToolpathSimulator(surface, tools, feed_angle=float(params.get("feed_angle", 0.0)),
-                            tolerance=float(params.get("tolerance", 0.01)),
-                            feed_rate=float(params.get("feed_rate", fin["feed"])),
-                            allowance=float(params.get("allowance", 0.5)))
+        unknown = set(params) - set(PLAN_KEYS)
+        if unknown:
+            raise ValueError(f"finish.problem.{sorted(unknown)[0]}: unknown (known: {', '.join(PLAN_KEYS)})")
+        where = "finish"
+    params.setdefault("feed_rate", fin["feed"])
     try:
-        index = tools.index_of(variables["tool"])
-    except (KeyError, ValueError):
-        raise ValueError(f"finish.params.tool: no tool with id {variables['tool']!r}") from None
-    row = [float(variables[k]) for k in ("stepover", "lead", "tilt", "step")]
-    if row[0] <= 0 or row[3] <= 0:
-        raise ValueError("finish.params: stepover and step must be > 0")
-    return finish_from_plan(sim, index, row, int(fin["tool"]["number"]), float(fin["tool"]["spindle"]),
-                            plunge_feed=float(fin["plunge_feed"])), variables
+        problem = _finish_problem(surface, params)
+    except ValueError as e:
+        raise ValueError(f"{where}.problem.{e}") from None
+    try:
+        return finish_from_plan(problem, variables, int(fin["tool"]["number"]), float(fin["tool"]["spindle"]),
+                                plunge_feed=float(fin["plunge_feed"])), variables
+    except ValueError as e:
+        raise ValueError(f"{where}.{e}") from None
 
 
 def build_operations(cfg: dict, base_dir=None, plan=None) -> tuple[dict[str, bytes], dict]:
@@ -95,7 +105,7 @@ def build_operations(cfg: dict, base_dir=None, plan=None) -> tuple[dict[str, byt
     finish_info = {"source": fin["source"]}
     if fin["source"] == "plan":
         finish, variables = _finish_plan(surface, cfg, plan)
-        finish_info["params"] = {k: variables[k] for k in ("tool", "stepover", "lead", "tilt", "step")}
+        finish_info["params"] = dict(variables)
         finish_info["from_run"] = plan is not None
     else:
         fin_tool = _tool(fin["tool"])

@@ -5,8 +5,9 @@
 - ``ball_on_offset``: 3-axis ball-end zig-zag along iso-parametric curves (passes at constant
   v, points along u), the ball centre on the exact normal offset at R + allowance
   (``offset.py``): semi-finish with allowance D_off2, finish with 0.
-- ``finish_from_plan``: the 5-axis finishing toolpath of the evoplan toolpath problem (the
-  simulator's CC pattern, tool tips and axes: the same path ``toolpath.apt`` holds).
+- ``finish_from_plan``: the finishing toolpath of one decision set of the evoplan toolpath
+  problem (``ToolpathProblem.cl_path``: the CL points, axes, passes and sections of the one
+  engine's plan, 5-axis or 3-axis, zoned or not: the path the run's ``toolpath.apt`` holds).
 """
 
 from __future__ import annotations
@@ -108,15 +109,25 @@ def ball_on_offset(surface, tool: Tool, *, allowance: float, stepover: float, st
     return tp, int(off.folded.sum())
 
 
-def finish_from_plan(simulator, tool_index: int, params, number: int, spindle_rpm: float, *,
+def finish_from_plan(problem, variables: dict, number: int, spindle_rpm: float, *,
                      plunge_feed: float | None = None, clearance: float = 10.0) -> Toolpath:
-    """The toolpath problem's finishing path for one parameter row (tool index, step-over %,
-    lead, tilt, step) as a Toolpath (same tips, axes and passes as ``toolpath.apt``)."""
-    x = np.array([float(tool_index), *params], float)
-    cc = simulator.pattern(x)
-    t = simulator.tools.tools[tool_index]
+    """The finishing path of one decision set ``variables`` (by name, the tool by its id) of
+    ``problem`` (a ``ToolpathProblem``) as a Toolpath. A plan whose passes are each one
+    section (a single zone) links them by cutting moves; a plan cut in separate sections
+    (zones, stretches of a plane) retracts between them."""
+    path, _ = problem.cl_path(variables)
+    db = problem.tool_db
+    tool_id = variables["tool"] if "tool" in variables else problem.fixed["tool"]
+    t = db.tools[db.index_of(tool_id)]
     tool = Tool(number, t.diameter, t.corner_radius, spindle_rpm)
-    text = (f"evoplan plan: tool {t.id} ({t.label()}), step-over {x[1]:g} %, lead {x[2]:g} deg, "
-            f"tilt {x[3]:g} deg, step {x[4]:g} mm")
-    return Toolpath.from_passes("finish", tool, cc.tool_tip, cc.axis, cc.pass_index, feed=simulator.feed_rate,
-                                plunge_feed=plunge_feed, clearance=clearance, comments=[text])
+    decisions = ", ".join(f"{k} {float(v):g}" for k, v in {**problem.fixed, **variables}.items()
+                          if k != "tool")
+    text = f"evoplan plan: tool {t.id} ({t.label()}), {decisions}"
+    one_per_pass = len(np.unique(path.section)) == len(np.unique(path.pass_index))
+    if one_per_pass and np.all(path.zone == path.zone[0]):
+        return Toolpath.from_passes("finish", tool, path.tip, path.axis, path.pass_index,
+                                    feed=path.feed_rate, plunge_feed=plunge_feed,
+                                    clearance=clearance, comments=[text])
+    return Toolpath.from_sections("finish", tool, path.tip, path.axis, path.section,
+                                  feed=path.feed_rate, plunge_feed=plunge_feed,
+                                  clearance=clearance, comments=[text])

@@ -125,3 +125,34 @@ def test_finish_from_a_finished_run(tmp_path, capsys):
     code = cli_main(["machine", str(config(tmp_path, dialect="fanuc")), "--out", str(tmp_path / "out2"),
                      "--from-run", str(run)])
     assert code == 2 and "another surface" in capsys.readouterr().err and not (tmp_path / "out2").exists()
+
+
+ZONED_RUN = RUN_CONFIG.format(z=0) + """    machine: 3axis
+    zoning: {method: kmeans, mesh: [12, 12], merge: false}
+"""
+
+
+def test_finish_from_a_zoned_3axis_run_is_the_runs_own_plan(tmp_path):
+    """The finish comes from the run's whole problem: a zoned 3-axis run gives its vertical,
+    zone-by-zone plan (the same CL points as the problem's ``cl_path``), cut in sections."""
+    from evoplan.problems.toolpath import ToolpathProblem
+
+    run = tmp_path / "run"
+    run.mkdir()
+    variables = {"tool": 9, "stepover": 35.0, "step": 7.0, "zones": 2}
+    (run / "best.json").write_text(json.dumps({"objective": 0.1, "variables": variables}))
+    (run / "config.yaml").write_text(ZONED_RUN)
+    code = cli_main(["machine", str(config(tmp_path, dialect="fanuc")), "--out", str(tmp_path / "out"),
+                     "--from-run", str(run)])
+    assert code == 0
+    finish = json.loads((tmp_path / "out" / "summary.json").read_text())["finish"]
+    assert finish["params"] == variables and not finish["multi_axis"]
+    import yaml
+
+    params = yaml.safe_load(ZONED_RUN)["problem"]["params"]
+    path, _ = ToolpathProblem(**params, normalization_samples=2).cl_path(variables)
+    assert len(np.unique(path.zone)) == 2
+    apt = read_apt(tmp_path / "out" / "finish.apt")
+    cut = ~apt.rapid
+    np.testing.assert_allclose(apt.tip[cut], path.tip, atol=1e-3)  # the plan's CL points, in order
+    assert apt.rapid.sum() >= 3 * len(np.unique(path.section))  # every section entered and left by rapids
