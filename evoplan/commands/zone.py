@@ -4,10 +4,12 @@ The file names the surface, the cutter (R, r), the scallop limit h_c, the zone-c
 penalty Delta L, the parametric mesh, the zoning method (any name of the registry in
 ``problems/toolpath/plan/zoning/methods/``: single, kmeans, amas) with a settings group per method,
 and ``merge`` (the post-process of ``zoning/merge.py``); see ``runs/choi_zoning.yaml``. The
-config model is built from the registry, so this command holds no method logic. Writes
-``summary.json`` (method, zones, per-zone direction and length, total length of Djebali
-Eq. 4, penalty, merge counts, seconds), ``zones.csv``
-(cell -> zone, with the cell's features) and ``zone_map.png`` (the zones and their passes).
+config model is built from the registry, so this command holds no method logic. The plan
+is the one toolpath engine's (3-axis, drop-cutter placement, passes spaced for h_c, each
+zone along its optimized direction), so its lengths are those of the sections it cuts.
+Writes ``summary.json`` (method, zones, per-zone direction, passes and length, total
+length of Djebali Eq. 4, penalty, merge counts, seconds), ``zones.csv`` (cell -> zone,
+with the cell's features) and ``zone_map.png`` (the zones and the sections cut).
 Nothing is written unless the whole plan succeeds.
 """
 
@@ -49,6 +51,7 @@ class ZoneBase(_Strict):
     stepover_model: Literal["profile", "circle"] = "profile"
     sample_spacing: float = Field(0.25, gt=0)
     direction_scan: int = Field(12, ge=1)
+    step: float = Field(1.0, gt=0, description="largest distance between CC points (mm)")
 
     @field_validator("method")
     @classmethod
@@ -92,40 +95,66 @@ def load(path: str, method: str | None = None) -> ZoneBase:
 
 
 def build_plan(cfg: ZoneBase, base_dir: Path):
-    """(surface, samples, plan) of a validated config; ValueError for bad values."""
+    """(surface, planner, genes, batch) of a validated config: the one engine's 3-axis plan
+    (drop-cutter placement, passes spaced for h_c, each zone along its optimized direction)
+    with the method's zones; ValueError for bad values."""
+    import numpy as np
+
     from ..problems.toolpath.geometry.spec import parse_surface
-    from ..problems.toolpath.plan.zoning.plan import plan_zones
-    from ..problems.toolpath.plan.zoning.samples import sample_surface
+    from ..problems.toolpath.plan.planner import Planner
+    from ..problems.toolpath.plan.zones import ZoningSpec
     from ..problems.toolpath.plan.zoning.stepover import ScallopTarget
+    from ..problems.toolpath.tools import parse_tools
 
     surface = parse_surface(cfg.surface, "surface", base_dir=base_dir)
     target = ScallopTarget.build(cfg.cutter.R, cfg.cutter.r, cfg.h_c, key="cutter")
-    samples = sample_surface(surface, spacing=cfg.sample_spacing)
+    tools = parse_tools([{"id": 1, "diameter": target.cutter.diameter,
+                          "corner_radius": target.cutter.corner_radius}], "cutter")
     settings = getattr(cfg, cfg.method).model_dump()  # the method's own settings group
-    plan = plan_zones(surface, target, cfg.method, mesh=tuple(cfg.mesh), delta_l=cfg.delta_l,
-                      model=cfg.stepover_model, samples=samples, scan=cfg.direction_scan,
-                      seed=cfg.seed, merge=cfg.merge, **settings)
-    return surface, samples, plan
+    gene = REGISTRY[cfg.method].gene
+    genes = {"tool": np.array([0]), "step": np.array([cfg.step])}
+    if gene is not None:
+        genes[gene.name] = np.array([settings.pop(gene.setting)], float)
+    spec = ZoningSpec(cfg.method, settings, tuple(cfg.mesh), cfg.merge, cfg.delta_l, cfg.seed,
+                      cfg.stepover_model, cfg.direction_scan, cfg.sample_spacing)
+    planner = Planner(surface, tools, machine="3axis", zoning=spec, spacing="scallop",
+                      h_c=cfg.h_c, feed_angle=None)
+    t0 = time.perf_counter()
+    batch = planner.plan(genes, place=False)
+    return surface, planner, genes, batch, time.perf_counter() - t0
 
 
-def summary(cfg: ZoneBase, plan) -> dict[str, Any]:
+def summary(cfg: ZoneBase, planner, genes, batch, seconds: float) -> dict[str, Any]:
+    """The plan's figures: every length is the one engine's, of the sections it cuts (zone
+    borders crossed by the bands of zoned planes, edge overruns included)."""
+    import numpy as np
+
+    layouts = planner.layouts
+    gene = layouts.gene
+    layout = layouts.get(genes[gene][0] if gene else None, 0)
+    zone_of_seg = batch.sec_zone[batch.seg_sec]
+    area = layouts.features.area
+    zones = []
+    for z in range(layout.count):
+        own = batch.sec_zone == z
+        zones.append({"zone": z, "cells": int((layout.labels == z).sum()),
+                      "area_mm2": round(float(area[layout.labels == z].sum()), 3),
+                      "direction_deg": round(float(np.degrees(layout.alpha[z])) % 180, 3),
+                      "passes": len(np.unique(batch.sec_pass[own])),
+                      "sections": int(own.sum()),
+                      "length_mm": round(float(batch.seg_len[zone_of_seg == z].sum()), 3)})
+    cutting = float(batch.seg_len.sum())
+    penalty = (layout.count - 1) * cfg.delta_l
     return {
-        "name": cfg.name, "method": plan.method, "mesh": list(cfg.mesh),
+        "name": cfg.name, "method": layouts.method.name, "mesh": list(cfg.mesh),
         "cutter": {"R": cfg.cutter.R, "r": cfg.cutter.r}, "h_c": cfg.h_c,
-        "stepover_model": cfg.stepover_model,
-        "zones": [{"zone": z.zone, "cells": z.cells, "area_mm2": round(z.area, 3),
-                   "start_direction_deg": round(z.start_deg % 180, 3),
-                   "direction_deg": round(z.direction_deg % 180, 3),
-                   "start_length_mm": round(z.start_length, 3),
-                   "length_mm": round(z.length, 3), "passes": len(z.passes.s),
-                   "lower_bound_mm": round(z.lower_bound, 3), "evaluations": z.evaluations}
-                  for z in plan.zones],
-        "n_zones": len(plan.zones),
-        "cutting_length_mm": round(plan.cutting_length, 3),
-        "penalty_mm": round(plan.penalty, 3), "delta_l_mm": plan.delta_l,
-        "total_length_mm": round(plan.total_length, 3),
-        "link_length_mm": round(plan.link_length, 3),
-        "info": plan.info, "seconds": {k: round(v, 4) for k, v in plan.seconds.items()},
+        "stepover_model": cfg.stepover_model, "step_mm": cfg.step,
+        "zones": zones, "n_zones": layout.count,
+        "cutting_length_mm": round(cutting, 3),
+        "penalty_mm": round(penalty, 3), "delta_l_mm": cfg.delta_l,
+        "total_length_mm": round(cutting + penalty, 3),
+        "cc_points": int(batch.on_part.sum()),
+        "info": layout.info, "seconds": {"total": round(seconds, 4)},
     }
 
 
@@ -146,30 +175,33 @@ def zones_csv(features, labels) -> bytes:
 
 
 def main(args: argparse.Namespace) -> int:
-    from ..problems.toolpath.plan.zoning.figures import zone_map_png
+    from ..problems.toolpath.artifacts import zone_map_png
 
     cfg = load(args.config, args.method)
     out = Path(args.out or Path("results") / f"{cfg.name}-{time.strftime('%Y%m%d-%H%M%S')}")
     if out.exists() and (not out.is_dir() or any(out.iterdir())):
         raise EvoplanError(f"{out}: already exists and is not empty: choose another --out")
     try:
-        surface, samples, plan = build_plan(cfg, Path(args.config).resolve().parent)
-        files = {"summary.json": json.dumps(summary(cfg, plan), indent=2).encode(),
-                 "zones.csv": zones_csv(plan.features, plan.labels),
-                 "zone_map.png": zone_map_png(surface, plan, samples,
-                                              title=f"{cfg.name}: {plan.method}, "
-                                                    f"{len(plan.zones)} zones, total "
-                                                    f"{plan.total_length:.0f} mm")}
+        surface, planner, genes, batch, seconds = build_plan(cfg, Path(args.config).resolve().parent)
+        facts = summary(cfg, planner, genes, batch, seconds)
+        labels = planner.layouts.get(genes[planner.layouts.gene][0]
+                                     if planner.layouts.gene else None, 0).labels
+        files = {"summary.json": json.dumps(facts, indent=2).encode(),
+                 "zones.csv": zones_csv(planner.layouts.features, labels),
+                 "zone_map.png": zone_map_png(surface, batch, labels,
+                                              title=f"{cfg.name}: {facts['method']}, "
+                                                    f"{facts['n_zones']} zones, total "
+                                                    f"{facts['total_length_mm']:.0f} mm")}
     except ValueError as e:
         raise ConfigError(f"{args.config}: {e}") from None
     out.mkdir(parents=True, exist_ok=True)
     for name, data in files.items():
         write_atomic(out / name, data)
-    print(json.dumps({"out": str(out), "method": plan.method,
-                      "zones_from_method": plan.info.get("merge", {}).get("zones_in"),
-                      "zones": len(plan.zones),
-                      "cutting_length_mm": round(plan.cutting_length, 1),
-                      "penalty_mm": plan.penalty,
-                      "total_length_mm": round(plan.total_length, 1),
-                      "seconds": round(plan.seconds["total"], 3)}))
+    print(json.dumps({"out": str(out), "method": facts["method"],
+                      "zones_from_method": facts["info"].get("merge", {}).get("zones_in"),
+                      "zones": facts["n_zones"],
+                      "cutting_length_mm": round(facts["cutting_length_mm"], 1),
+                      "penalty_mm": facts["penalty_mm"],
+                      "total_length_mm": round(facts["total_length_mm"], 1),
+                      "seconds": round(seconds, 3)}))
     return 0

@@ -44,7 +44,9 @@ class ZoningSpec:
     """How a plan is zoned: a registered ``method`` with its fixed ``settings`` (the gene, if
     the method has one, comes from the decisions), the parametric ``mesh``, the ``merge``
     post-process (None: the method's zones as they are), the Eq. 4 penalty ``delta_l`` used
-    by the merging (mm) and the ``seed`` of any randomness."""
+    by the merging (mm), the ``seed`` of any randomness, and the direction search: the
+    step-over ``model`` of ``zoning/stepover.py`` (profile | circle), the ``scan`` of
+    ``zoning/direction.py`` and the XY ``sample_spacing`` of the zones' samples (mm)."""
 
     method: str = "single"
     settings: dict = field(default_factory=dict)
@@ -52,6 +54,9 @@ class ZoningSpec:
     merge: MergeSettings | None = field(default_factory=MergeSettings)
     delta_l: float = 40.0
     seed: int = 0
+    model: str = "profile"
+    scan: int = 12
+    sample_spacing: float = 0.25
 
 
 @dataclass
@@ -100,7 +105,7 @@ class ZoneLayouts:
     @property
     def samples(self):
         if self._samples is None:
-            self._samples = sample_surface(self.surface)
+            self._samples = sample_surface(self.surface, self.spec.sample_spacing)
         return self._samples
 
     def key(self, value):
@@ -138,14 +143,15 @@ class ZoneLayouts:
     def _direction(self, sub, mask, target):
         if self.feed_angle is not None:
             alpha = float(np.radians(self.feed_angle)) % np.pi
-            return alpha, zone_passes(sub, target, alpha)
+            return alpha, zone_passes(sub, target, alpha, self.spec.model)
         f = self.features
         start = axial_mean(f.steepest[mask], (f.area * np.sin(f.slope))[mask])
-        best = optimize_direction(sub, target, start, xatol_deg=ALPHA_STEP_DEG)
+        best = optimize_direction(sub, target, start, model=self.spec.model, scan=self.spec.scan,
+                                  xatol_deg=ALPHA_STEP_DEG)
         # on the direction grid: the pass-plane tables are then shared between layouts
         alpha = float(np.radians(ALPHA_STEP_DEG * round(np.degrees(best.alpha) / ALPHA_STEP_DEG)))
         alpha %= np.pi
-        return alpha, zone_passes(sub, target, alpha)
+        return alpha, zone_passes(sub, target, alpha, self.spec.model)
 
     def _layout(self, value, target) -> ZoneLayout:
         labels, info = self._labels(value, target)

@@ -169,18 +169,31 @@ def test_two_planes_keep_two_zones_through_the_default_merging(method):
 
 
 def test_shipped_amas_default_on_choi_beats_raw_amas_and_a_single_zone():
-    from evoplan.commands.zone import build_plan, load
+    """Through the one engine: the lengths are those of the sections cut."""
+    from dataclasses import replace
+
+    from evoplan.commands.zone import build_plan, load, summary
+    from evoplan.problems.toolpath.plan.planner import Planner
 
     cfg = load(str(RUNS / "choi_zoning.yaml"))
     assert cfg.method == "amas" and cfg.merge == MergeSettings()
-    surface, samples, plan = build_plan(cfg, RUNS)
-    cutter = ScallopTarget.build(cfg.cutter.R, cfg.cutter.r, cfg.h_c)
-    common = dict(mesh=tuple(cfg.mesh), samples=samples, delta_l=cfg.delta_l)
-    raw = plan_zones(surface, cutter, "amas", merge=None, seed=cfg.seed, **common)
-    single = plan_zones(surface, cutter, "single", **common)
-    assert plan.info["merge"]["zones_in"] == len(raw.zones) > 10  # the AMAS alone fragments
-    assert len(plan.zones) < len(raw.zones)
-    assert plan.total_length < single.total_length < raw.total_length
-    assert_connected(plan.labels)
-    area = np.array([z.area for z in plan.zones])
+    surface, planner, genes, batch, seconds = build_plan(cfg, RUNS)
+    facts = summary(cfg, planner, genes, batch, seconds)
+
+    def total(spec, g):
+        other = Planner(surface, planner.tools, machine="3axis", zoning=spec,
+                        spacing="scallop", h_c=cfg.h_c, feed_angle=None)
+        b = other.plan(g, place=False)
+        return float(b.seg_len.sum()) + (int(b.zones[0]) - 1) * cfg.delta_l, other, b
+
+    spec = planner.layouts.spec
+    raw_total, raw_planner, raw = total(replace(spec, merge=None), genes)
+    single_total, _, _ = total(replace(spec, method="single", settings={}),
+                               {k: genes[k] for k in ("tool", "step")})
+    assert facts["info"]["merge"]["zones_in"] == int(raw.zones[0]) > 10  # AMAS alone fragments
+    assert facts["n_zones"] < int(raw.zones[0])
+    assert facts["total_length_mm"] < single_total < raw_total
+    labels = planner.layouts.get(genes["k_lz"][0], 0).labels
+    assert_connected(labels)
+    area = np.array([z["area_mm2"] for z in facts["zones"]])
     assert area.min() >= cfg.merge.min_zone_area * area.sum()
