@@ -13,7 +13,7 @@ from evoplan.problems.toolpath.criteria.objective import (
 )
 from evoplan.problems.toolpath.criteria.simulated import SimulatedCriteria
 from evoplan.problems.toolpath.criteria.table import CRITERIA, names
-from evoplan.problems.toolpath.simulator import ToolpathSimulator
+from evoplan.problems.toolpath.plan.planner import Planner
 from evoplan.problems.toolpath.tools import parse_tools
 
 ROOT = Path(__file__).resolve().parents[3]
@@ -65,7 +65,8 @@ def test_the_old_total_length_is_the_eq4_total():
 def test_the_cut_simulation_measures_the_criteria_flagged_simulated():
     tools = parse_tools([{"diameter": 12, "corner_radius": 0}])
     surface = Plane(0.0, 30.0, 0.0, 20.0)
-    path = ToolpathSimulator(surface, tools).cl_path([0, 40.0, 0.0, 3.0, 10.0])
+    path = Planner(surface, tools).cl_path({"tool": 0, "stepover": 40.0, "lead": 0.0, "tilt": 3.0,
+                                            "step": 10.0})
     measured = SimulatedCriteria(surface, {"grid_mm": 1.0}).measure(path, flat=True)
     assert tuple(measured) == names(simulated=True)
     assert measured["undercut_max"] == measured["scallop_max"] > 0  # the rim's saw-tooth

@@ -1,5 +1,5 @@
-"""The users of the cutter abstraction: the tool database hands out cutters, the simulator's
-undercut and the NC outputs (label, APT CUTTER/) go through the cutter's shape."""
+"""The users of the cutter abstraction: the tool database hands out cutters, the analytic
+criteria's undercut and the NC outputs (label, APT CUTTER/) go through the cutter's shape."""
 
 import numpy as np
 import pytest
@@ -27,15 +27,13 @@ def test_the_database_hands_out_the_inferred_cutters():
 def test_only_a_sharp_rim_reports_an_undercut():
     """Tilted across the feed on a plane, the flat-end's rim leaves material (its undercut);
     the same orientation gives no undercut for the toroidal and ball tools."""
+    from engine_rows import criteria
     from toolpath_analytic import Plane
-
-    from evoplan.problems.toolpath import ToolpathSimulator
 
     db = parse_tools([{"diameter": 12, "corner_radius": 0}, {"diameter": 12, "corner_radius": 2},
                       {"diameter": 12, "corner_radius": 6}])
-    sim = ToolpathSimulator(Plane(0.0, 100.0, 0.0, 60.0), db)
     X = np.array([[i, 40.0, 0.0, 3.0, 5.0] for i in range(3)])
-    crit = sim.criteria(X)
+    crit = criteria(Plane(0.0, 100.0, 0.0, 60.0), db, X)
     assert crit["undercut_max"][0] == crit["scallop_max"][0] > 0.01
     assert np.all(crit["undercut_max"][1:] == 0.0) and np.all(crit["scallop_max"][1:] > 0)
 
@@ -53,7 +51,7 @@ def test_nc_outputs_take_the_shape_from_the_cutter():
 def test_the_3axis_and_5axis_silhouettes_agree_with_the_closed_form(r, slope_deg):
     """One silhouette, two users: a vertical cutter fed straight up a plane of slope S is the
     5-axis case lead = S, tilt = 0. At a height h above the contact, the 3-axis side width
-    (zoning) and the 5-axis profile table (simulator) give the same lateral offset, and on
+    (zoning) and the 5-axis profile table (analytic scallop) give the same lateral offset, and on
     horizontal ground it is the cutter's own width(h) = R0 + sqrt(2 r h - h^2)."""
     from evoplan.problems.toolpath.cutters import make_cutter
     from evoplan.problems.toolpath.cutters.silhouette import profile_tables, side_width_exact
@@ -99,17 +97,19 @@ def test_the_centre_is_the_corner_arcs_centre_and_centre_points_read_back_as_tip
 
 
 def test_a_mixed_batch_gives_each_row_its_own_cutters_profile():
-    """The simulator asks each tool's cutter for the profiles of its rows and puts them back
-    in row order: a batch mixing tools gives every row what it gives alone (to round-off: the
-    CC patterns of a batch differ from a lone row's in the last bits)."""
-    from evoplan.problems.toolpath import ToolpathProblem
+    """The analytic criteria ask each tool's cutter for the profiles of its rows and put them
+    back in row order: a batch mixing tools gives every row what it gives alone (to
+    round-off)."""
+    from engine_rows import criteria
 
-    sim = ToolpathProblem().simulator
+    from evoplan.problems.toolpath import fountas_surface
+
+    surface, db = fountas_surface(), parse_tools()
     rng = np.random.default_rng(5)
     X = np.column_stack([[5, 0, 8, 5, 3, 6, 0], rng.uniform(20, 45, 7), rng.uniform(0, 8, 7),
                          rng.uniform(0, 8, 7), rng.uniform(2, 8, 7)])
-    batch = sim.criteria(X)
+    batch = criteria(surface, db, X)
     for i, x in enumerate(X):
-        alone = sim.criteria(x[None, :])
+        alone = criteria(surface, db, x[None, :])
         for name in ("scallop_max", "scallop_mean", "gouge_max", "undercut_max"):
             assert batch[name][i] == pytest.approx(alone[name][0], rel=1e-9, abs=1e-12), (name, i)

@@ -1,4 +1,5 @@
-"""CC pattern and chord error: reference numbers, exact sagittas, refinement, CC counts."""
+"""CC pattern and chord error: reference numbers, exact sagittas, refinement, CC counts (the
+one engine's single-zone plans: ``Planner.plan``)."""
 
 import numpy as np
 import pytest
@@ -10,12 +11,38 @@ from evoplan.problems.toolpath import fountas_surface
 from evoplan.problems.toolpath.geometry.chord import (
     chord_deviation, chord_error_curvature, chord_error_normals, circle_curvature_eq1,
 )
-from evoplan.problems.toolpath.plan.pattern import PassGeometry, cc_pattern_batch
+from evoplan.problems.toolpath.plan.planes import PassGeometry
+from evoplan.problems.toolpath.plan.planner import Planner
+from evoplan.problems.toolpath.tools import parse_tools
+
+#: a ball D100: a step-over of x % of D is x mm in XY
+D100 = parse_tools([{"diameter": 100, "corner_radius": 50}])
 
 
 @pytest.fixture(scope="module")
 def fountas_geometry():
     return PassGeometry(fountas_surface())
+
+
+def _pattern(surface, delta, step, tol=0.01):
+    """Single-zone 5-axis plans of XY step-overs delta (n,) mm and maximum steps (n,) mm."""
+    delta, step = np.atleast_1d(np.asarray(delta, float)), np.atleast_1d(np.asarray(step, float))
+    n = len(delta)
+    genes = {"tool": np.zeros(n, int), "stepover": delta, "lead": np.zeros(n),
+             "tilt": np.zeros(n), "step": step}
+    return Planner(surface, D100, tolerance=tol).plan(genes, place=False)
+
+
+def _ends(pb):
+    """(first, last) point index of every section along +f (a reversed one travels along -f)."""
+    a, b = pb.sec_start, pb.sec_start + pb.sec_count - 1
+    return np.where(pb.sec_reverse, b, a), np.where(pb.sec_reverse, a, b)
+
+
+def _plane_offsets(pb, i=0):
+    """Plan i's plane offsets in plane order (one section per plane)."""
+    s = np.flatnonzero(pb.sec_ind == i)
+    return pb.sec_d[s][np.argsort(pb.sec_pass[s])]
 
 
 def test_chord_formulas_agree_on_a_circle():
@@ -80,11 +107,11 @@ def test_mid_feed_deviation_is_the_maximum_deviation_of_the_segment(fountas_geom
 
 def test_points_lie_on_their_planes_and_on_the_surface(fountas_geometry):
     g = fountas_geometry
-    pb = cc_pattern_batch(g, np.array([3.0, 6.7]), np.array([6.3, 9.9]), 0.01)
-    assert np.abs(pb.p[:, :2] @ g.c - pb.pass_d[pb.pt_pass]).max() < 1e-7
+    pb = _pattern(g.surface, [3.0, 6.7], [6.3, 9.9])
+    assert np.abs(pb.p[:, :2] @ g.c - pb.sec_d[pb.pt_sec]).max() < 1e-7
     np.testing.assert_allclose(g.surface.points(pb.u, pb.v), pb.p, atol=1e-7)
     # every pass runs over the whole footprint, edge to edge
-    first, last = pb.pass_start, pb.pass_start + pb.pass_count - 1
+    first, last = _ends(pb)
     np.testing.assert_allclose(pb.p[first, 0], -94.4, atol=1e-7)
     np.testing.assert_allclose(pb.p[last, 0], 0.1, atol=1e-7)
 
@@ -92,44 +119,42 @@ def test_points_lie_on_their_planes_and_on_the_surface(fountas_geometry):
 @settings(max_examples=15, deadline=None)
 @given(stepover=st.floats(1.6, 7.2), step=st.floats(5.0, 10.0))
 def test_segments_respect_the_maximum_step_and_the_tolerance(fountas_geometry, stepover, step):
-    pb = cc_pattern_batch(fountas_geometry, np.array([stepover]), np.array([step]), 0.01)
+    pb = _pattern(fountas_geometry.surface, stepover, step)
     assert pb.seg_len.max() <= step * (1 + 1e-4)
     assert pb.seg_err.max() <= 0.01
     k = np.ceil(103.2 / stepover - 1e-9) + 1
-    assert len(pb.pass_d) == k
-    spacing = np.diff(pb.pass_d)
+    assert len(pb.sec_d) == k
+    spacing = np.diff(_plane_offsets(pb))
     np.testing.assert_allclose(spacing[:-1], stepover, rtol=1e-9)
     assert 0 < spacing[-1] <= stepover * (1 + 1e-9)
 
 
 def test_plane_has_no_chord_error_and_a_predictable_cc_count():
     plane = Plane(0.0, 100.0, 0.0, 60.0, a=0.3, b=0.2)
-    g = PassGeometry(plane)
-    pb = cc_pattern_batch(g, np.array([4.0, 7.0]), np.array([7.0, 9.5]), 0.01)
+    pb = _pattern(plane, [4.0, 7.0], [7.0, 9.5])
     assert pb.seg_err.max() < 1e-9
     length = 100.0 * np.sqrt(1 + 0.3 ** 2)
     for i, (delta, step) in enumerate([(4.0, 7.0), (7.0, 9.5)]):
         passes = int(np.ceil(60.0 / delta)) + 1
         per_pass = int(np.ceil(length / step)) + 1
-        assert np.sum(pb.pass_ind[pb.pt_pass] == i) == passes * per_pass
-    np.testing.assert_allclose(pb.seg_len[pb.pass_ind[pb.seg_pass] == 0], length / np.ceil(length / 7.0),
+        assert np.sum(pb.pt_ind == i) == passes * per_pass
+    np.testing.assert_allclose(pb.seg_len[pb.seg_ind == 0], length / np.ceil(length / 7.0),
                                rtol=1e-9)
 
 
 def test_cylinder_chord_error_is_the_circle_sagitta_and_refinement_meets_the_tolerance():
     rho = 50.0
     cyl = Cylinder(rho, axis="y", sign=1.0, half=30.0, length=20.0)  # passes are arcs
-    g = PassGeometry(cyl)
-    coarse = cc_pattern_batch(g, np.array([5.0]), np.array([1.5]), 0.01)  # 1.5 mm: sagitta < tol
+    coarse = _pattern(cyl, 5.0, 1.5)  # 1.5 mm: sagitta < tol
     L = coarse.seg_len
     np.testing.assert_allclose(coarse.seg_err, rho - np.sqrt(rho * rho - L * L / 4), rtol=1e-3)
     arc = 2 * rho * np.arcsin(30.0 / rho)
-    assert np.all(np.bincount(coarse.seg_pass) == np.ceil(arc / 1.5 - 1e-9))  # no refinement
-    fine = cc_pattern_batch(g, np.array([5.0]), np.array([10.0]), 0.01)  # 10 mm: 0.25 mm sagitta
+    assert np.all(np.bincount(coarse.seg_sec) == np.ceil(arc / 1.5 - 1e-9))  # no refinement
+    fine = _pattern(cyl, 5.0, 10.0)  # 10 mm: 0.25 mm sagitta
     assert fine.seg_err.max() <= 0.01
     c_tol = 2 * np.sqrt(2 * rho * 0.01 - 0.01 ** 2)  # chord whose sagitta is the tolerance
     n_min = np.ceil(arc / (2 * rho * np.arcsin(c_tol / (2 * rho))))
-    per_pass = np.bincount(fine.seg_pass)
+    per_pass = np.bincount(fine.seg_sec)
     assert np.all(per_pass >= n_min) and np.all(per_pass <= 1.5 * n_min)
 
 
@@ -142,17 +167,16 @@ def test_cc_count_shrinks_with_stepover_and_step(fountas_problem):
         cc = p.criteria(X)["cc_count"]
         assert np.all(np.diff(cc) <= 0) and cc[0] > 1.8 * cc[-1]
     # without chord refinement the count can only fall as the step grows
-    geom = p.simulator.geometry
     steps = np.linspace(5, 10, n)
-    raw = cc_pattern_batch(geom, np.full(n, 4.0), steps, tol=1e9)
-    raw_counts = np.bincount(raw.pass_ind[raw.pt_pass], minlength=n)
+    raw = _pattern(p.surface, np.full(n, 4.0), steps, tol=1e9)
+    raw_counts = np.bincount(raw.pt_ind, minlength=n)
     assert np.all(np.diff(raw_counts) <= 0) and raw_counts[0] > 1.6 * raw_counts[-1]
     # refinement only adds points; below ~6.35 mm no segment of Fountas' surface exceeds the
     # 0.01 mm tolerance, so there the count falls with the step as well. Above, a step just
     # past a ceil threshold gives longer segments that get split (the tolerance, not the
     # step, then sets the count), so it is not monotone there.
-    ref = cc_pattern_batch(geom, np.full(n, 4.0), steps, tol=0.01)
-    counts = np.bincount(ref.pass_ind[ref.pt_pass], minlength=n)
+    ref = _pattern(p.surface, np.full(n, 4.0), steps, tol=0.01)
+    counts = np.bincount(ref.pt_ind, minlength=n)
     assert np.all(counts >= raw_counts)
     low = steps <= 6.3
     assert np.array_equal(counts[low], raw_counts[low]) and np.all(np.diff(counts[low]) < 0)
@@ -163,22 +187,20 @@ def test_passes_span_a_non_rectangular_footprint_edge_to_edge():
 
     # bilinear patch over a trapezoid: x in [0.4 y, 100 - 0.4 y], y in [0, 50]
     poles = np.array([[[0, 0, 0], [20, 50, 2]], [[100, 0, 10], [80, 50, 8]]], float)
-    g = PassGeometry(BezierSurface(poles))
-    pb = cc_pattern_batch(g, np.array([5.0]), np.array([7.0]), 0.01)
-    first, last = pb.pass_start, pb.pass_start + pb.pass_count - 1
-    np.testing.assert_allclose(pb.p[first, 0], 0.4 * pb.pass_d, atol=1e-6)
-    np.testing.assert_allclose(pb.p[last, 0], 100 - 0.4 * pb.pass_d, atol=1e-6)
+    pb = _pattern(BezierSurface(poles), 5.0, 7.0)
+    first, last = _ends(pb)
+    np.testing.assert_allclose(pb.p[first, 0], 0.4 * pb.sec_d, atol=1e-6)
+    np.testing.assert_allclose(pb.p[last, 0], 100 - 0.4 * pb.sec_d, atol=1e-6)
     assert pb.seg_err.max() < 1e-9  # a bilinear patch with straight sections is planar here
 
 
 def test_feed_direction_rotates_the_passes():
-    from evoplan.problems.toolpath import ToolpathSimulator, parse_tools
-    from toolpath_analytic import Plane
+    from engine_rows import criteria
 
     tools = parse_tools([{"diameter": 8, "corner_radius": 4}])
     x = np.array([[0, 37.5, 1.0, 0.5, 7.0]])
-    along_x = ToolpathSimulator(Plane(0, 60, 0, 90), tools, feed_angle=0.0).criteria(x)
-    along_y = ToolpathSimulator(Plane(0, 90, 0, 60), tools, feed_angle=90.0).criteria(x)
+    along_x = criteria(Plane(0, 60, 0, 90), tools, x, feed_angle=0.0)
+    along_y = criteria(Plane(0, 90, 0, 60), tools, x, feed_angle=90.0)
     for k in ("cc_count", "n_passes", "path_length", "scallop_max"):
         assert along_x[k][0] == pytest.approx(along_y[k][0], rel=1e-9), k
     assert along_x["n_passes"][0] == np.ceil(90 / 3.0) + 1
