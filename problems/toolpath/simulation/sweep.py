@@ -1,10 +1,12 @@
 """Sweep a toolpath over the design grid: CL path in, residual per cell out.
 
-Prepares the poses the kernel (``kernel.py``) stamps: along every feed move (consecutive
-CL points of one section), poses at most ``pose_step`` mm of tip travel apart, each with
-its path position, the distance to its neighbours (the refinement's bracket), its section,
-and how far from its tip (in XY) it can cut: the radius, plus the lean of a tilted axis
-over the corner radius, plus two cells. Rapid moves between sections do not cut.
+Prepares what the kernels visit. By moves (the default, ``moves.py``): every feed move
+(consecutive CL points of one section) and every section of one point, each with how far
+from its tip's segment (in XY) it can cut: the radius, plus the lean of a tilted axis over
+the corner radius, plus two cells. By stamps (the reference, ``stamp.py``): poses at most
+``pose_step`` mm of tip travel apart along the feed moves, each with its path position, the
+distance to its neighbours (the refinement's bracket), its section and the same reach.
+Rapid moves between sections do not cut.
 """
 
 from __future__ import annotations
@@ -16,9 +18,14 @@ import numpy as np
 
 from ..clpath import CLPath
 from .design import DesignGrid
-from .kernel import sweep
+from .moves import sweep_moves, tiles
+from .stamp import sweep as sweep_stamps
 
-__all__ = ["Residual", "sweep_path", "poses"]
+__all__ = ["Residual", "sweep_path", "poses", "moves"]
+
+_GOLD = 0.5 * (np.sqrt(5.0) - 1.0)
+#: counts of the last sweep by moves (for the benchmark)
+last_stats: dict = {}
 
 
 @dataclass(frozen=True)
@@ -68,25 +75,24 @@ def poses(path: CLPath, pose_step: float):
     return s, ds, lo[pi].astype(np.int64), hi[pi].astype(np.int64)
 
 
-def sweep_path(path: CLPath, grid: DesignGrid, *, vertical: bool = False,
-               pose_step: float | None = None, tol: float = 4e-3, n_slots: int = 3) -> Residual:
-    """The residual of every cell after the whole path has been cut (see the module doc).
+def moves(path: CLPath, h: float):
+    """(i, j, reach) of the moves the sweep by moves visits: every feed move (CL point i ->
+    j = i + 1) and every section of one point (i = j), with the XY radius around the tip's
+    segment within which it can cut (as for the stamps)."""
+    lo, hi = _sections(path.section)
+    i = np.flatnonzero(path.feed_moves)
+    single = np.flatnonzero(lo == hi)
+    mi = np.r_[i, single].astype(np.int64)
+    mj = np.r_[i + 1, single].astype(np.int64)
+    order = np.argsort(mi, kind="stable")
+    mi, mj = mi[order], mj[order]
+    sin_tilt = np.sqrt(np.clip(1.0 - path.axis[:, 2] ** 2, 0.0, 1.0))
+    reach = path.radius + path.corner_radius * np.maximum(sin_tilt[mi], sin_tilt[mj]) + 2.0 * h
+    return mi, mj, reach
 
-    ``pose_step`` (mm of tip travel between stamped poses; default 0.75, 0.25 for a flat end
-    whose sharp rim makes narrow dips along the path): the stamps only pick, for each cell,
-    the stretch of path where it is cut; golden-section search then locates the deepest
-    pose within that stretch to ``tol`` mm of travel. Measured on Fountas' part against
-    poses 0.05-0.2 mm apart refined to 2e-4-5e-4 mm (0.2 mm grid): torus D16 r3 at most
-    0.0016 mm off on 0.015 % of the cells, ball D12 0.0043 mm on 0.006 %, where a pass
-    turns into a link; flat D8 0.027 mm on 0.08 %, where the rim of the tilted cutter
-    passes a cell during a link move (a dip narrower than the stamps). ``n_slots``: how
-    many stretches of path (passes, links) each cell remembers as candidates.
-    """
-    t0 = time.perf_counter()
+
+def _sweep_stamps(path, grid, res, vertical, pose_step, tol, n_slots):
     R, r, h = path.radius, path.corner_radius, grid.h
-    res = np.full(grid.shape, np.inf)
-    if len(path) == 0:
-        return Residual(res, vertical, 0.0)
     if pose_step is None:
         pose_step = 0.75 if r >= 0.5 else 0.25
     pose_step = float(pose_step)
@@ -94,9 +100,60 @@ def sweep_path(path: CLPath, grid: DesignGrid, *, vertical: bool = False,
     pi = np.minimum(np.floor(s).astype(np.int64), len(path) - 1)
     sin_tilt = np.sqrt(np.clip(1.0 - path.axis[:, 2] ** 2, 0.0, 1.0))
     reach = R + r * sin_tilt[pi] + 2.0 * h
-    n_golden = max(int(np.ceil(np.log(tol / (2.0 * pose_step)) / np.log(0.5 * (np.sqrt(5) - 1)))), 1)
-    sweep(res, grid.x0, grid.y0, h, grid.z, grid.normal, grid.inside, bool(vertical),
-          path.tip, path.axis, s, ds, lo, hi, reach, float(R), float(r), int(n_slots), 2,
-          n_golden)
+    n_golden = max(int(np.ceil(np.log(tol / (2.0 * pose_step)) / np.log(_GOLD))), 1)
+    sweep_stamps(res, grid.x0, grid.y0, h, grid.z, grid.normal, grid.inside, bool(vertical),
+                 path.tip, path.axis, s, ds, lo, hi, reach, float(R), float(r), int(n_slots),
+                 2, n_golden)
+    return len(s)
+
+
+def _sweep_moves(path, grid, res, vertical, tol, bend_tol, near_miss, tile_mm):
+    R, r, h = path.radius, path.corner_radius, grid.h
+    mi, mj, reach = moves(path, h)
+    ny, nx = grid.shape
+    ts = max(int(round(tile_mm / h)), 1)
+    ptr, tile_mv = tiles(grid.x0, grid.y0, h, ny, nx, ts, path.tip, mi, mj, reach)
+    seg = np.linalg.norm(path.tip[mj] - path.tip[mi], axis=1)
+    longest = max(float(seg.max()) if len(seg) else 0.0, 4e-3)
+    n_golden = max(int(np.ceil(np.log(4e-3 / longest) / np.log(_GOLD))), 1)
+    stats = np.zeros(4, np.int64)
+    sweep_moves(res, grid.x0, grid.y0, h, grid.z, grid.normal, grid.inside, bool(vertical),
+                path.tip, path.axis, mi, mj, reach, ts, ptr, tile_mv, float(R), float(r),
+                float(tol), float(bend_tol), float(near_miss), n_golden, stats)
+    global last_stats
+    last_stats = dict(zip(("point_entries", "moves_searched", "search_entries", "golden"),
+                          stats.tolist()))
+    return len(mi)
+
+
+def sweep_path(path: CLPath, grid: DesignGrid, *, vertical: bool = False, method: str = "moves",
+               tol: float | None = None, bend_tol: float = 1e-4, near_miss: float = 0.05, tile_mm: float = 1.0,
+               pose_step: float | None = None, n_slots: int = 3) -> Residual:
+    """The residual of every cell after the whole path has been cut (see the module doc).
+
+    ``method="moves"`` (default, ``convex.py``): every feed move is searched exactly for
+    each cell it can reach, using the convexity of the entry along a move; ``tol`` (mm of
+    entry, default 1e-6) is how far above the tangents' lower bound the search may stop;
+    ``near_miss`` (mm): a move whose both ends miss the ray is searched when its closest
+    pose misses by less; ``tile_mm``: the side of the tiles that list the moves.
+
+    ``method="stamps"`` (``stamp.py``), the reference: poses ``pose_step`` mm of tip travel
+    apart (default 0.75, 0.25 for a flat end), the ``n_slots`` deepest poses of different
+    stretches per cell refined by golden-section search to ``tol`` mm of travel (default
+    4e-3). Assumes nothing about the entry along a move, so with dense poses it checks the
+    default; at its default spacing it can miss dips narrower than the stamps.
+    """
+    t0 = time.perf_counter()
+    res = np.full(grid.shape, np.inf)
+    if len(path) == 0:
+        return Residual(res, vertical, 0.0)
+    if method == "moves":
+        n = _sweep_moves(path, grid, res, vertical, 1e-6 if tol is None else tol, bend_tol,
+                         near_miss, tile_mm)
+    elif method == "stamps":
+        n = _sweep_stamps(path, grid, res, vertical, pose_step, 4e-3 if tol is None else tol,
+                          n_slots)
+    else:
+        raise ValueError(f"sweep method: {method!r} is not 'moves' or 'stamps'")
     res[~grid.inside] = np.nan
-    return Residual(res, bool(vertical), time.perf_counter() - t0, len(s))
+    return Residual(res, bool(vertical), time.perf_counter() - t0, n)

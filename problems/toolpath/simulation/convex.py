@@ -1,0 +1,189 @@
+"""The sweep by moves: the deepest entry of each cell's ray over every feed move, exactly.
+
+Along one straight move with a constant axis the cutter is a convex solid C translated
+along a line, so the set {(t, s): p + t d in C + s v} is the preimage of C under an affine
+map, hence convex, and the entry f(s) = min t is a convex function of the move parameter s
+on the stretch where the ray hits (an interval). The axis interpolated between two CL
+points turns only a little over one move, so f stays convex to within far less than the
+tolerance. The derivative f'(s) follows from the entry point by the implicit function
+theorem (``kernel.entry_gradient``), so:
+
+- an end of the move where f climbs into the move (f'(0) >= 0, f'(1) <= 0) is the move's
+  minimum; no search;
+- otherwise the tangents at both ends bound f from below (they cross at the lower bound L):
+  a move whose L is above the best entry found so far cannot deepen the cell;
+- else the minimum is bracketed and the bracket shrinks by secant steps on f' (exact for a
+  smooth, nearly quadratic f) or by the tangents' crossing (exact for a V-shaped f: a
+  sharp rim passing the ray), until the best value found is within ``tol`` mm of L.
+
+A move whose one end misses the ray is bisected towards the end that hits until the hit
+stretch is bracketed; a move whose both ends miss is tried where its tip passes closest to
+the cell, and searched by golden section on the miss score (``kernel.MISS`` plus the
+distance outside the radius) only when that pose passes within ``near_miss`` mm.
+
+The axis interpolated between two CL points turns the cutter while it moves, which bends f
+away from convex by a bounded amount (:func:`_curl`); the bounds allow for it.
+``moves.py`` runs this search for every cell and every move that can reach it.
+"""
+
+from __future__ import annotations
+
+import math
+
+from numba import njit
+
+from .kernel import INF, MISS, _entry, _golden, entry_gradient
+
+_HALF = 0.5 * MISS
+#: the bend bound from the ends, times this, holds over the interval
+BEND_SAFETY = 2.0
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _slope(gc, ga, vcx, vcy, vcz, wax, way, waz):
+    """dt/ds for the tip velocity vc and axis velocity wa (perpendicular to the axis)."""
+    return (gc[0] * vcx + gc[1] * vcy + gc[2] * vcz) - (ga[0] * wax + ga[1] * way + ga[2] * waz)
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _axis_rate(nx, ny, nz, dax, day, daz):
+    """Unit axis n / |n| and its rate for an axis n(s) with dn/ds = da (linear, renormalized)."""
+    nn = math.sqrt(nx * nx + ny * ny + nz * nz)
+    ax, ay, az = nx / nn, ny / nn, nz / nn
+    k = ax * dax + ay * day + az * daz
+    return ax, ay, az, (dax - k * ax) / nn, (day - k * ay) / nn, (daz - k * az) / nn
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _at(s, i, j, tip, axis, px, py, pz, dx, dy, dz, R, r, g):
+    """(entry, slope, 1 / cos) at move parameter s of move i -> j: the entry, its derivative
+    along the move, and 1 / (normal . ray) at the entry point (0, 0 where the ray misses)."""
+    vcx, vcy, vcz = tip[j, 0] - tip[i, 0], tip[j, 1] - tip[i, 1], tip[j, 2] - tip[i, 2]
+    dax, day, daz = axis[j, 0] - axis[i, 0], axis[j, 1] - axis[i, 1], axis[j, 2] - axis[i, 2]
+    cx, cy, cz = tip[i, 0] + s * vcx, tip[i, 1] + s * vcy, tip[i, 2] + s * vcz
+    ax, ay, az, wax, way, waz = _axis_rate(axis[i, 0] + s * dax, axis[i, 1] + s * day,
+                                           axis[i, 2] + s * daz, dax, day, daz)
+    t, face = _entry(px, py, pz, dx, dy, dz, cx, cy, cz, ax, ay, az, R, r, INF)
+    if face == 0:
+        return t, 0.0, 0.0
+    g[0], g[1], g[2], g[3], g[4], g[5] = entry_gradient(t, face, px, py, pz, dx, dy, dz,
+                                                        cx, cy, cz, ax, ay, az, R, r)
+    sl = _slope(g[:3], g[3:], vcx, vcy, vcz, wax, way, waz)
+    return t, sl, _curl(g, ax, ay, az, wax, way, waz, vcx, vcy, vcz, sl)
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _curl(g, ax, ay, az, wax, way, waz, vcx, vcy, vcz, sl):
+    """How fast the turning axis bends the entry away from convex, here: the cutter frame
+    sees the ray move along a curve (d2y/ds2 = 2 w x v with w = a x da/ds the axis' angular
+    rate, d2y/dsdt = w x d), so the non-convex part of f'' is at most
+    2 (|n . (w x v)| + |w| |f'|) / |n . d| at an entry of normal n (gc = n / (n . d))."""
+    wx, wy, wz = ay * waz - az * way, az * wax - ax * waz, ax * way - ay * wax
+    cx, cy, cz = wy * vcz - wz * vcy, wz * vcx - wx * vcz, wx * vcy - wy * vcx
+    gn = math.sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2])
+    wn = math.sqrt(wx * wx + wy * wy + wz * wz)
+    return abs(g[0] * cx + g[1] * cy + g[2] * cz) + wn * abs(sl) * gn
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _bound(a, b, fa, sa, fb, sb, kap):
+    """Lower bound of f on [a, b] from the ends: f + kap/2 (s - a)(s - b) is convex there,
+    so its tangents at the ends bound it (and f) from below. An end that misses (f above
+    MISS / 2) gives no tangent: the hit stretch is an interval that ends before it."""
+    w = b - a
+    hit_a, hit_b = fa < _HALF, fb < _HALF
+    ga, gb = sa - 0.5 * kap * w, sb + 0.5 * kap * w
+    if hit_a and hit_b:
+        if ga >= 0.0:
+            return fa
+        if gb <= 0.0:
+            return fb
+        return fa + ga * ((fb - fa + gb * (a - b)) / (ga - gb))
+    if hit_a:
+        return fa + min(ga, 0.0) * w
+    if hit_b:
+        return fb - max(gb, 0.0) * w
+    return INF
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _bend(ka, kb):
+    """kap of :func:`_bound` on an interval from :func:`_curl` at its ends."""
+    return BEND_SAFETY * 2.0 * max(ka, kb)
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _move_min(i, j, tip, axis, px, py, pz, dx, dy, dz, R, r, fa, sa, na, fb, sb, nb, best,
+              tol, bend_tol, near_miss, n_golden, g, stk, stats):
+    """The deepest entry over move i -> j (s in [0, 1]) if it is below ``best``, else best.
+    fa, sa, na / fb, sb, nb: entry, slope and 1 / cos at the ends (see the module doc).
+
+    Branch and bound over sub-intervals of the move, each bounded by :func:`_bound` with
+    kap, a bound of how far the turning axis bends f away from convex (the cutter frame
+    sees the ray move along a curve: d2y/ds2 = 2 da/ds x v, d2y/dsdt = da/ds x d, hence
+    |f''| of the non-convex part <= 2 |da/ds| (|v| + |f'|) / cos), with a factor 2 to spare."""
+    if i == j:
+        return best
+    vx, vy, vz = tip[j, 0] - tip[i, 0], tip[j, 1] - tip[i, 1], tip[j, 2] - tip[i, 2]
+    vlen = math.sqrt(vx * vx + vy * vy + vz * vz)
+    n = 0
+    if fa >= _HALF and fb >= _HALF:
+        # both ends miss: try where the tip passes closest to the cell (in XY)
+        vv = vx * vx + vy * vy
+        sc = 0.5 if vv <= 0.0 else min(max(((px - tip[i, 0]) * vx + (py - tip[i, 1]) * vy) / vv,
+                                            0.0), 1.0)
+        f, sl, nu = _at(sc, i, j, tip, axis, px, py, pz, dx, dy, dz, R, r, g)
+        if f >= _HALF:
+            if f - MISS > near_miss:
+                return best
+            stats[3] += 1
+            return min(best, _golden(float(i), float(i) + 1.0, i, i + 1, tip, axis, px, py,
+                                     pz, dx, dy, dz, R, r, n_golden))
+        best = min(best, f)
+        stk[0, :] = (0.0, sc, fa, sa, nu, f, sl, nu, 0.0)
+        stk[1, :] = (sc, 1.0, f, sl, nu, fb, sb, nu, 0.0)
+        n = 2
+    else:
+        stk[0, :] = (0.0, 1.0, fa, sa, na, fb, sb, nb, 0.0)
+        n = 1
+    evals = 0
+    while n > 0:
+        n -= 1
+        a, b, fa, sa, na, fb, sb, nb, kept = stk[n]
+        w = b - a
+        if w * vlen < 1e-6 or evals >= 60:
+            continue
+        # done where neither f can dip more than tol below best if it is convex, nor more
+        # than bend_tol as bent by the turning axis
+        l0 = _bound(a, b, fa, sa, fb, sb, 0.0)
+        if l0 >= best - tol and _bound(a, b, fa, sa, fb, sb, _bend(na, nb)) >= best - bend_tol:
+            continue
+        if fa < _HALF and fb < _HALF and sa < 0.0 < sb:
+            # regula falsi on f'; an end kept twice in a row counts half (Illinois)
+            ea = sa * 0.5 ** max(kept - 1.0, 0.0)
+            eb = sb * 0.5 ** max(-kept - 1.0, 0.0)
+            s = a - ea * w / (eb - ea)
+            if (s - a < 0.1 * w or b - s < 0.1 * w) and abs(
+                    (fb - fa) - 0.5 * (sa + sb) * w) > 0.3 * abs(0.5 * (sa + sb) * w):
+                # f is far from a parabola here (a steep wall at one end, where the ray
+                # grazes the cutter): regula falsi would creep along it, so bisect
+                s = 0.5 * (a + b)
+            s = min(max(s, a + 0.01 * w), b - 0.01 * w)
+        else:
+            s = 0.5 * (a + b)
+            kept = 0.0
+        f, sl, nu = _at(s, i, j, tip, axis, px, py, pz, dx, dy, dz, R, r, g)
+        evals += 1
+        stats[2] += 1
+        if f < _HALF:
+            best = min(best, f)
+        # the side towards which f falls is searched first (pushed last); ``kept`` counts
+        # how often in a row its end a (> 0) or b (< 0) was kept
+        if sl < 0.0:
+            stk[n, :] = (a, s, fa, sa, na, f, sl, nu, 0.0)
+            stk[n + 1, :] = (s, b, f, sl, nu, fb, sb, nb, min(kept, 0.0) - 1.0)
+        else:
+            stk[n, :] = (s, b, f, sl, nu, fb, sb, nb, 0.0)
+            stk[n + 1, :] = (a, s, fa, sa, na, f, sl, nu, max(kept, 0.0) + 1.0)
+        n += 2
+    return best

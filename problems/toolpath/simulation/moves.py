@@ -1,0 +1,225 @@
+"""The sweep by moves over the grid: every cell, every feed move that can reach it.
+
+The cells are visited tile by tile; each tile lists the moves whose reach (the XY radius
+around the tip's segment within which the cutter can cut) touches it. For each cell the
+moves are taken nearest first, and a move is skipped without computing any entry when a
+geometric bound (:func:`_geo_bound`: the cutter lies above its tip plane and above its
+lower profile at the ray's least distance from the axis) shows it cannot cut below the best
+entry found so far. Otherwise its ends are evaluated (a CL point's entry and gradient serve
+both moves that meet there) and ``convex._move_min`` searches it.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from .convex import _HALF, _axis_rate, _curl, _move_min, _slope
+from .kernel import INF, _entry, _ray, entry_gradient
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _seg_dist2(px, py, x0, y0, x1, y1):
+    """Squared XY distance from (px, py) to the segment (x0, y0) - (x1, y1)."""
+    vx, vy = x1 - x0, y1 - y0
+    vv = vx * vx + vy * vy
+    lam = 0.0 if vv <= 0.0 else min(max(((px - x0) * vx + (py - y0) * vy) / vv, 0.0), 1.0)
+    ex, ey = px - x0 - lam * vx, py - y0 - lam * vy
+    return ex * ex + ey * ey
+
+
+@njit(cache=True, error_model="numpy")
+def tiles(x0, y0, h, ny, nx, ts, tip, mv_i, mv_j, mv_reach):
+    """(ptr, moves): for every tile of ts x ts cells (row-major), the moves whose reach
+    (distance from the tip's segment) can touch one of its cells."""
+    ty, tx = (ny + ts - 1) // ts, (nx + ts - 1) // ts
+    half = 0.5 * ts * h * math.sqrt(2.0)
+    count = np.zeros(ty * tx + 1, np.int64)
+    for rnd in range(2):
+        if rnd == 1:
+            for k in range(ty * tx):
+                count[k + 1] += count[k]
+            out = np.empty(count[ty * tx], np.int64)
+            fill = count[:-1].copy()
+        for m in range(mv_i.shape[0]):
+            i, j = mv_i[m], mv_j[m]
+            reach = mv_reach[m] + half
+            lo_x = min(tip[i, 0], tip[j, 0]) - reach
+            hi_x = max(tip[i, 0], tip[j, 0]) + reach
+            lo_y = min(tip[i, 1], tip[j, 1]) - reach
+            hi_y = max(tip[i, 1], tip[j, 1]) + reach
+            kx0 = max(int(math.floor((lo_x - x0) / (ts * h))), 0)
+            kx1 = min(int(math.floor((hi_x - x0) / (ts * h))), tx - 1)
+            ky0 = max(int(math.floor((lo_y - y0) / (ts * h))), 0)
+            ky1 = min(int(math.floor((hi_y - y0) / (ts * h))), ty - 1)
+            for ky in range(ky0, ky1 + 1):
+                cy = y0 + (ky * ts + 0.5 * (ts - 1)) * h
+                for kx in range(kx0, kx1 + 1):
+                    cx = x0 + (kx * ts + 0.5 * (ts - 1)) * h
+                    if _seg_dist2(cx, cy, tip[i, 0], tip[i, 1], tip[j, 0], tip[j, 1]) > reach * reach:
+                        continue
+                    if rnd == 0:
+                        count[ky * tx + kx + 1] += 1
+                    else:
+                        out[fill[ky * tx + kx]] = m
+                        fill[ky * tx + kx] += 1
+    return count, out
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _point(k, tip, axis, px, py, pz, dx, dy, dz, R, r, g):
+    t, face = _entry(px, py, pz, dx, dy, dz, tip[k, 0], tip[k, 1], tip[k, 2], axis[k, 0],
+                     axis[k, 1], axis[k, 2], R, r, INF)
+    g[0], g[1], g[2], g[3], g[4], g[5] = entry_gradient(
+        t, face, px, py, pz, dx, dy, dz, tip[k, 0], tip[k, 1], tip[k, 2], axis[k, 0],
+        axis[k, 1], axis[k, 2], R, r)
+    return t
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _end_slope(g, k, i, j, tip, axis):
+    """Slope of the entry at CL point k (i or j) along move i -> j."""
+    dax, day, daz = axis[j, 0] - axis[i, 0], axis[j, 1] - axis[i, 1], axis[j, 2] - axis[i, 2]
+    ax, ay, az, wax, way, waz = _axis_rate(axis[k, 0], axis[k, 1], axis[k, 2], dax, day, daz)
+    vcx, vcy, vcz = tip[j, 0] - tip[i, 0], tip[j, 1] - tip[i, 1], tip[j, 2] - tip[i, 2]
+    sl = _slope(g[:3], g[3:], vcx, vcy, vcz, wax, way, waz)
+    return sl, _curl(g, ax, ay, az, wax, way, waz, vcx, vcy, vcz, sl)
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _geo(i, j, tip, axis, px, py, pz, dx, dy, dz, e):
+    """What bounds the entry over move i -> j without computing one: e = (U, w0 max,
+    |w0| max, a . d min, a . d max, |d - (a . d) a| max) with U a lower bound of the
+    distance from the ray's start to the axis over the move. The axis turns by at most
+    ``turn`` (chord of the axes), which moves any point at distance l from the tip by at
+    most l turn; it is added to every figure (see :func:`_geo_bound`)."""
+    ex, ey, ez = axis[j, 0] - axis[i, 0], axis[j, 1] - axis[i, 1], axis[j, 2] - axis[i, 2]
+    turn = math.sqrt(ex * ex + ey * ey + ez * ez)
+    ax, ay, az = axis[i, 0], axis[i, 1], axis[i, 2]
+    qx, qy, qz = px - tip[i, 0], py - tip[i, 1], pz - tip[i, 2]
+    rx, ry, rz = px - tip[j, 0], py - tip[j, 1], pz - tip[j, 2]
+    wi = qx * ax + qy * ay + qz * az
+    wj = rx * ax + ry * ay + rz * az
+    lmax = max(math.sqrt(qx * qx + qy * qy + qz * qz), math.sqrt(rx * rx + ry * ry + rz * rz))
+    # distance from p to the tip's segment in the plane across the axis a_i
+    ux, uy, uz = qx - wi * ax, qy - wi * ay, qz - wi * az
+    vx, vy, vz = (rx - wj * ax) - ux, (ry - wj * ay) - uy, (rz - wj * az) - uz
+    vv = vx * vx + vy * vy + vz * vz
+    lam = 0.0 if vv <= 0.0 else min(max(-(ux * vx + uy * vy + uz * vz) / vv, 0.0), 1.0)
+    dd = math.sqrt((ux + lam * vx) ** 2 + (uy + lam * vy) ** 2 + (uz + lam * vz) ** 2)
+    da_i = dx * ax + dy * ay + dz * az
+    da_j = dx * axis[j, 0] + dy * axis[j, 1] + dz * axis[j, 2]
+    e[0] = dd - lmax * turn
+    e[1] = max(wi, wj) + lmax * turn
+    e[2] = max(abs(wi), abs(wj)) + lmax * turn
+    e[3] = min(da_i, da_j) - turn
+    e[4] = min(max(da_i, da_j) + turn, 1.0)
+    e[5] = math.sqrt(max(1.0 - min(da_i, da_j) ** 2, 0.0)) + turn
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _geo_bound(e, T, R, r):
+    """A lower bound of every entry below T over the move (-inf if none is known): an entry
+    at t lies in the cutter above its tip plane (t >= -w0 / (a . d), so |t| <= tau), within
+    the radius of the axis, where the ray is at least U - tau |d_perp| from it, and there
+    the cutter's lower profile h(rho) is at least h(U - tau |d_perp|)."""
+    if e[3] <= 1e-9:
+        return -INF
+    tau = max(abs(T), e[2] / e[3])
+    rho = e[0] - tau * e[5]
+    if rho > R:
+        return INF
+    rp = R - r
+    hr = 0.0 if rho <= rp else r - math.sqrt(max(r * r - (rho - rp) ** 2, 0.0))
+    num = hr - e[1]
+    return num / e[4] if num > 0.0 else num / e[3]
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def sweep_moves(res, x0, y0, h, pz, nrm, inside, vertical, tip, axis, mv_i, mv_j, mv_reach,
+                ts, ptr, tile_mv, R, r, tol, bend_tol, near_miss, n_golden, stats):
+    """Lower ``res`` (ny, nx) to the deepest entry over all moves (see the module doc).
+    ``stats`` (4,) counts: entries at CL points, moves searched, entries in the searches,
+    golden-section fallbacks."""
+    ny, nx = res.shape
+    tx = (nx + ts - 1) // ts
+    n_max = 1
+    for k in range(ptr.shape[0] - 1):
+        n_max = max(n_max, ptr[k + 1] - ptr[k])
+    cm = np.empty(n_max, np.int64)
+    cf = np.empty((n_max, 6))
+    key = np.empty(n_max)
+    order = np.empty(n_max, np.int64)
+    stk = np.empty((64, 9))
+    geo = np.empty((n_max, 6))
+    cg = np.empty((n_max, 2, 6))
+    done = np.zeros(n_max, np.bool_)
+    gs = np.empty(6)
+    for tile in range(ptr.shape[0] - 1):
+        if ptr[tile + 1] == ptr[tile]:
+            continue
+        ky, kx = tile // tx, tile % tx
+        for iy in range(ky * ts, min(ky * ts + ts, ny)):
+            py = y0 + iy * h
+            for ix in range(kx * ts, min(kx * ts + ts, nx)):
+                if not inside[iy, ix]:
+                    continue
+                px = x0 + ix * h
+                dx, dy, dz = _ray(iy, ix, vertical, nrm)
+                p_z = pz[iy, ix]
+                best = res[iy, ix]
+                nc = 0
+                for q in range(ptr[tile], ptr[tile + 1]):
+                    m = tile_mv[q]
+                    i, j = mv_i[m], mv_j[m]
+                    reach = mv_reach[m]
+                    if _seg_dist2(px, py, tip[i, 0], tip[i, 1], tip[j, 0], tip[j, 1]) > reach * reach:
+                        continue
+                    cm[nc] = m
+                    _geo(i, j, tip, axis, px, py, p_z, dx, dy, dz, geo[nc])
+                    key[nc] = _geo_bound(geo[nc], 0.0, R, r)
+                    done[nc] = False
+                    order[nc] = nc
+                    k = nc
+                    while k > 0 and key[order[k - 1]] > key[order[k]]:
+                        order[k - 1], order[k] = order[k], order[k - 1]
+                        k -= 1
+                    nc += 1
+                # nearest moves first; a move whose geometric bound is above the best entry
+                # found so far is skipped without computing any entry
+                for o in range(nc):
+                    c = order[o]
+                    if _geo_bound(geo[c], best, R, r) >= best:
+                        continue
+                    m = cm[c]
+                    i, j = mv_i[m], mv_j[m]
+                    # a CL point's entry serves both moves that meet there
+                    if c > 0 and done[c - 1] and mv_j[cm[c - 1]] == i:
+                        f0 = cf[c - 1, 3]
+                        cg[c, 0, :] = cg[c - 1, 1, :]
+                    else:
+                        stats[0] += 1
+                        f0 = _point(i, tip, axis, px, py, p_z, dx, dy, dz, R, r, cg[c, 0])
+                    if j == i:
+                        f1 = f0
+                        cg[c, 1, :] = cg[c, 0, :]
+                    elif c + 1 < nc and done[c + 1] and mv_i[cm[c + 1]] == j:
+                        f1 = cf[c + 1, 0]
+                        cg[c, 1, :] = cg[c + 1, 0, :]
+                    else:
+                        stats[0] += 1
+                        f1 = _point(j, tip, axis, px, py, p_z, dx, dy, dz, R, r, cg[c, 1])
+                    done[c] = True
+                    best = min(best, f0, f1)
+                    cf[c, 0] = f0
+                    cf[c, 1], cf[c, 2] = _end_slope(cg[c, 0], i, i, j, tip, axis)
+                    cf[c, 3] = f1
+                    cf[c, 4], cf[c, 5] = _end_slope(cg[c, 1], j, i, j, tip, axis)
+                    stats[1] += 1
+                    best = _move_min(i, j, tip, axis, px, py, p_z, dx, dy, dz, R, r,
+                                     cf[c, 0], cf[c, 1], cf[c, 2], cf[c, 3], cf[c, 4],
+                                     cf[c, 5], best, tol, bend_tol, near_miss, n_golden, gs, stk,
+                                     stats)
+                res[iy, ix] = best if best < _HALF else INF
