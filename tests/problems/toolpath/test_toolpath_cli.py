@@ -43,7 +43,8 @@ def test_run_writes_cc_pattern_and_apt_file(tmp_path):
     proc = evoplan("run", cfg, "--out", tmp_path / "res")
     assert proc.returncode == 0, proc.stderr
     out = tmp_path / "res"
-    assert (out / "cc_pattern.png").read_bytes()[:4] == b"\x89PNG"
+    for name in ("cc_pattern.png", "zone_map.png"):  # a single zone has its zone map too
+        assert (out / name).read_bytes()[:4] == b"\x89PNG", name
     apt = (out / "toolpath.apt").read_text().splitlines()
     assert apt[0].startswith("PARTNO/") and apt[-1] == "FINI" and "MULTAX/ON" in apt
     assert max(len(line) for line in apt) <= 72
@@ -52,6 +53,9 @@ def test_run_writes_cc_pattern_and_apt_file(tmp_path):
     assert set(best["variables"]) == {"tool", "stepover", "lead", "tilt", "step"}
     assert best["variables"]["tool"] in range(1, 10)
     assert len(gotos) >= 2 and all(len(g.split("/")[1].split(",")) == 6 for g in gotos)
+    # one section per pass of the single zone, each opened by its comment
+    sections = [line for line in apt if line.startswith("$$ ZONE ")]
+    assert sections[:2] == ["$$ ZONE 0 PASS 0", "$$ ZONE 0 PASS 1"] and len(sections) >= 10
 
 
 BAD_PARAMS = {
