@@ -59,19 +59,23 @@ def edge_overrun(points: dict, sec_start, sec_count, at_head, at_tail, head_leng
     return out, start, count, ~added, shift, (owner[added], step_len[added])
 
 
-def refine_overrun_moves(points: dict, cutter, surface, tolerance: float, rounds: int = 8):
-    """Split the straight moves that touch an overrun point (``on_part`` False at either
-    end) until the drop-cutter tip at their quarter and mid XY is within ``tolerance`` (mm)
-    of the move: the tool falling away past the edge follows a curve, and a chord below it
-    would cut into the edge. ``points``: per-point arrays in path order with ``tip``,
-    ``section`` and ``on_part``; an inserted row repeats its left neighbour's other fields.
+def refine_drop_moves(points: dict, cutter, surface, tolerance: float, rounds: int = 8):
+    """Split the straight moves of a drop-cutter path until the drop-cutter tip at their
+    quarter and mid XY is within ``tolerance`` (mm) of the move: where the tool falls away
+    (past the edge, or where the tangent tool's XY swings round a corner of the part) the
+    gouge-free tip follows a curve, and a chord below it would cut into the part. The check
+    is vertical, at the move's own XY: exactly what the machine's straight move does.
+    ``points``: per-point arrays in path order with ``tip`` and ``section``; an inserted row
+    (the drop-cutter tip at the move's mid XY) repeats its left neighbour's other fields.
     Returns (points, number of points inserted)."""
     pts = dict(points)
     q = np.array([0.25, 0.5, 0.75])
     added = 0
+    pending = None
     for _ in range(rounds):
-        tip, on = pts["tip"], pts["on_part"]
-        i = np.flatnonzero((pts["section"][1:] == pts["section"][:-1]) & ~(on[1:] & on[:-1]))
+        tip = pts["tip"]
+        i = np.flatnonzero(pending) if added else np.flatnonzero(
+            pts["section"][1:] == pts["section"][:-1])
         if len(i) == 0:
             break
         xy = (1 - q[:, None, None]) * tip[i, :2] + q[:, None, None] * tip[i + 1, :2]
@@ -84,5 +88,8 @@ def refine_overrun_moves(points: dict, cutter, surface, tolerance: float, rounds
         new_tip = np.column_stack([xy[1][bad], z[1][bad]])
         for key, arr in pts.items():
             pts[key] = np.insert(arr, left + 1, new_tip if key == "tip" else arr[left], axis=0)
+        at = left + 1 + np.arange(len(left))  # the new rows: check both halves next round
+        pending = np.zeros(len(pts["tip"]) - 1, bool)
+        pending[at - 1] = pending[at] = True
         added += len(left)
     return pts, added

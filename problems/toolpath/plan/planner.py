@@ -31,7 +31,7 @@ from ..tools import ToolDatabase
 from ..clpath import CLPath
 from .batch import PlanBatch
 from .orientation import get_machine, travel_tangent
-from .overrun import edge_overrun, refine_overrun_moves
+from .overrun import edge_overrun, refine_drop_moves
 from .planes import PassGeometry
 from .points import sample_sections
 from .sections import Sections, full_plane_sections, zone_sections
@@ -145,8 +145,9 @@ class Planner:
 
         pts, stats = refine_chords(self.surface, cutter, place, pts, self.tolerance,
                                    chord_rounds)
-        pts, stats["overrun_added"] = refine_overrun_moves(pts, cutter, self.surface,
-                                                           self.tolerance, chord_rounds)
+        if self.machine.overrun:  # the drop-cutter placement: check every move at its XY
+            pts, stats["drop_added"] = refine_drop_moves(pts, cutter, self.surface,
+                                                         self.tolerance, chord_rounds)
         info = {"cc": pts["cc"], "uv": pts["uv"], "normal": pts["normal"],
                 "on_part": pts["on_part"], **stats}
         return CLPath(pts["tip"], np.array([0.0, 0.0, 1.0]), tool.diameter,

@@ -7,8 +7,8 @@ section: for the drop-cutter placement, the gouge-free tip z at every XY of the 
 Where that curve bends (near a part edge or a ridge the drop-cutter tip falls away along
 the cutter's profile) the chord leaves it: below a convex stretch the tool cuts into the
 part between two gouge-free CL points. This is the CL analogue of the CC chord error that
-``pattern.py`` bounds along its passes (Fountas et al.: cut tolerance 0.01 mm, the default
-of ``zone_cl_path``).
+``plan/points.py`` bounds along the sections (Fountas et al.: cut tolerance 0.01 mm);
+``Planner.cl_path`` applies it to 3-axis plans.
 
 Measure: for a move from tip P_i to tip P_{i+1}, the placed tip at the CC point of XY
 (1 - q) xy_i + q xy_{i+1} against the chord point (1 - q) P_i + q P_{i+1}, for q = 1/4,
