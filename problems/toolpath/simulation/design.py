@@ -19,12 +19,12 @@ import numpy as np
 from scipy.interpolate import RegularGridInterpolator
 from scipy.spatial import cKDTree
 
-from ..geometry.surface import Surface, unit_normal
+from ..geometry.surface import Jet, Surface, unit_normal
 
 __all__ = ["DesignGrid", "design_grid", "grid_bytes", "BYTES_PER_CELL"]
 
 BYTES_PER_CELL = 8 * 6 + 1 + 8 * 2  # z, normal, residual, u, v, inside + working copies
-_CHUNK = 1 << 19
+_CHUNK = 1 << 16  # cells per batch: the jets of a batch stay in cache
 
 
 @dataclass(frozen=True)
@@ -77,16 +77,43 @@ def footprint(surface: Surface, n: int = 512) -> tuple[float, float, float, floa
 
 def _newton_xy(surface: Surface, x, y, u, v, iters: int = 8):
     for _ in range(iters):
-        j = surface.jet(u, v, order=1)
-        rx, ry = j.p[:, 0] - x, j.p[:, 1] - y
-        a, b, c, d = j.su[:, 0], j.sv[:, 0], j.su[:, 1], j.sv[:, 1]
-        det = a * d - b * c
-        det = np.where(np.abs(det) > 1e-300, det, 1e-300)
-        u = u - (d * rx - b * ry) / det
-        v = v - (a * ry - c * rx) / det
-        u = np.clip(u, -0.05, 1.05)
-        v = np.clip(v, -0.05, 1.05)
+        u, v, _ = _newton_step(surface, x, y, u, v)
     return u, v
+
+
+def _newton_step(surface: Surface, x, y, u, v):
+    """One Newton step on (x(u, v), y(u, v)) = (x, y); also the jet at the start point and
+    its XY residual."""
+    j = surface.jet(u, v, order=1)
+    rx, ry = j.p[:, 0] - x, j.p[:, 1] - y
+    a, b, c, d = j.su[:, 0], j.sv[:, 0], j.su[:, 1], j.sv[:, 1]
+    det = a * d - b * c
+    det = np.where(np.abs(det) > 1e-300, det, 1e-300)
+    un = np.clip(u - (d * rx - b * ry) / det, -0.05, 1.05)
+    vn = np.clip(v - (a * ry - c * rx) / det, -0.05, 1.05)
+    return un, vn, (j, np.hypot(rx, ry))
+
+
+def _solve_xy(surface: Surface, x, y, u, v, iters: int = 4, tol: float = 1e-9):
+    """(u, v, jet at (u, v), XY residual) after Newton steps from the seed (u, v); points
+    whose residual is below ``tol`` mm stop early (the seed is close: two steps mostly)."""
+    idx = np.arange(len(x))
+    out_u, out_v = u.copy(), v.copy()
+    p = np.empty((len(x), 3))
+    su = np.empty((len(x), 3))
+    sv = np.empty((len(x), 3))
+    res = np.full(len(x), np.inf)
+    for k in range(iters + 1):
+        un, vn, (j, r) = _newton_step(surface, x[idx], y[idx], out_u[idx], out_v[idx])
+        p[idx], su[idx], sv[idx], res[idx] = j.p, j.su, j.sv, r
+        if k == iters:
+            break
+        go = r > tol
+        idx, un, vn = idx[go], un[go], vn[go]
+        out_u[idx], out_v[idx] = un, vn
+        if not len(idx):
+            break
+    return out_u, out_v, Jet(p, su, sv), res
 
 
 def design_grid(surface: Surface, h: float, margin: float = 0.0,
@@ -131,10 +158,8 @@ def design_grid(surface: Surface, h: float, margin: float = 0.0,
     for a in range(0, ny * nx, _CHUNK):
         x, y = X[a:a + _CHUNK], Y[a:a + _CHUNK]
         pts = np.stack([x, y], axis=1)
-        u, v = _newton_xy(surface, x, y, iu(pts), iv(pts), iters=4)
-        j = surface.jet(np.clip(u, 0, 1), np.clip(v, 0, 1), order=1)
-        ok = ((u >= -1e-9) & (u <= 1 + 1e-9) & (v >= -1e-9) & (v <= 1 + 1e-9)
-              & (np.hypot(j.p[:, 0] - x, j.p[:, 1] - y) < 1e-6))
+        u, v, j, dist = _solve_xy(surface, x, y, iu(pts), iv(pts))
+        ok = ((u >= -1e-9) & (u <= 1 + 1e-9) & (v >= -1e-9) & (v <= 1 + 1e-9) & (dist < 1e-6))
         nrm = unit_normal(j, surface.normal_sign)
         if (ok & (nrm[:, 2] <= 1e-6)).any():
             raise ValueError("surface: not a graph over XY (a vertical wall or a fold): "
