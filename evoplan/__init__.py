@@ -24,7 +24,7 @@ _LAZY = {
     "make_problem": "evoplan.problem_factory", "ConfigError": "evoplan.errors",
     "EvoplanError": "evoplan.errors",
     "ToolpathProblem": "evoplan.problems.toolpath",
-    "ZonedToolpathProblem": "evoplan.problems.toolpath.plan.zoning.problem",
+    "ZonedToolpathProblem": "evoplan.problems.toolpath.zoned",
 }
 
 __all__ = ["__version__", *_LAZY]

@@ -8,7 +8,7 @@ is never asked twice for the same point.
 
 **Counting** (``budget``): ``distinct`` (the default) charges the evaluation budget only for
 genotypes actually evaluated, because the budget stands for the cost of the black box (a CAM
-system, the toolpath simulator), and a cache hit costs a dictionary look-up; comparing
+system, the toolpath engine), and a cache hit costs a dictionary look-up; comparing
 algorithms "at equal evaluations" then means at an equal number of calls of the black box.
 ``all`` charges every genotype asked for, hits included: the count evoplan kept before the
 cache (the run's numbers are then identical to a run without cache, only faster).

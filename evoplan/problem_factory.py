@@ -1,6 +1,6 @@
 """Problems by name, and the binary variable space of a problem.
 
-Names: ``kubota`` (Fountas Eq. 13), ``toolpath`` (the machining simulator), ``module:Class``
+Names: ``kubota`` (Fountas Eq. 13), ``toolpath`` (the toolpath engine), ``module:Class``
 for a problem of your own (a pymoo ``Problem`` subclass importable from ``module``), and any
 pymoo test problem (``rastrigin``, ``ackley``, ``griewank``, ``rosenbrock``, ``schwefel``,
 ``sphere``, ``zakharov``, ``g1``...), built with ``pymoo.problems.get_problem(name, **params)``.

@@ -1,1 +1,1 @@
-"""Problems: benchmark functions and the toolpath simulator, as batched pymoo problems."""
+"""Problems: benchmark functions and the toolpath engine, as batched pymoo problems."""

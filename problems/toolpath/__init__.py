@@ -11,20 +11,22 @@ The folders follow the pipeline, each depending only on the ones before it:
 - ``criteria/``: what a plan is worth (analytic, simulated) and Fountas Eq. 9.
 - ``simulation/``: the cut simulation that referees the analytic criteria.
 - ``export/``: APT, NC post-processors, DXF and STL; ``roughing/``: Abbas' layers.
-- ``problem``: the pymoo ``ToolpathProblem``; ``simulator``: the analytic evaluator.
+- ``problem``: the pymoo ``ToolpathProblem`` (the one toolpath engine: ``Planner`` ->
+  ``PlanBatch`` -> criteria); ``zoned``: its former ``toolpath_zoning`` configuration.
 """
 
 from .geometry.bezier import BezierSurface, choi_surface
 from .geometry.bspline import BSplineSurface
 from .problem import DEFAULT_RANGES, PARAM_NAMES, ToolpathProblem
-from .simulator import CRITERIA, CCPattern, ToolpathSimulator
+from .plan.batch import PlanBatch
+from .plan.planner import Planner
 from .geometry.spec import parse_surface
 from .geometry.surface import PolynomialSurface, Surface, fountas_surface
 from .tools import DEFAULT_TOOLS, Tool, ToolDatabase, parse_tools
 
 __all__ = [
-    "BezierSurface", "BSplineSurface", "CCPattern", "CRITERIA", "DEFAULT_RANGES",
-    "DEFAULT_TOOLS", "PARAM_NAMES", "PolynomialSurface", "Surface", "Tool", "ToolDatabase",
-    "ToolpathProblem", "ToolpathSimulator", "choi_surface", "fountas_surface",
+    "BezierSurface", "BSplineSurface", "DEFAULT_RANGES", "DEFAULT_TOOLS", "PARAM_NAMES",
+    "PlanBatch", "Planner", "PolynomialSurface", "Surface", "Tool", "ToolDatabase",
+    "ToolpathProblem", "choi_surface", "fountas_surface",
     "parse_surface", "parse_tools",
 ]

@@ -15,7 +15,7 @@ from __future__ import annotations
 import time
 
 from evoplan.problems.toolpath.simulation import design_grid, simulate
-from evoplan.problems.toolpath.plan.zoning.problem import ZonedToolpathProblem
+from evoplan.problems.toolpath.zoned import ZonedToolpathProblem
 
 
 def main() -> None:

@@ -24,7 +24,7 @@ from scipy.stats import spearmanr
 
 from evoplan.problems.toolpath.problem import ToolpathProblem
 from evoplan.problems.toolpath.simulation import design_grid, simulate
-from evoplan.problems.toolpath.plan.zoning.problem import ZonedToolpathProblem
+from evoplan.problems.toolpath.zoned import ZonedToolpathProblem
 
 HERE = Path(__file__).resolve().parent
 NORM = {"machining_error": [0, 0.5], "cc_count": [0, 1000]}

@@ -8,7 +8,7 @@ import dataclasses
 import numpy as np
 
 from evoplan.problems.toolpath.simulation import design_grid, simulate
-from evoplan.problems.toolpath.plan.zoning.problem import ZonedToolpathProblem
+from evoplan.problems.toolpath.zoned import ZonedToolpathProblem
 
 
 def test_cc_placement_gouges_and_drop_cutter_does_not():

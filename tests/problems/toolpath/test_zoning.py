@@ -190,7 +190,7 @@ def test_zone_cli_writes_everything_or_nothing(tmp_path):
 
 
 def test_zoning_genes_in_the_toolpath_problem():
-    from evoplan.problems.toolpath.plan.zoning.problem import ZonedToolpathProblem
+    from evoplan.problems.toolpath.zoned import ZonedToolpathProblem
 
     prob = ZonedToolpathProblem(mesh=(30, 30), zones=(1, 4))
     assert list(prob.variables) == ["tool", "zones"]

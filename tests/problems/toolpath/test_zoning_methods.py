@@ -17,7 +17,7 @@ from evoplan.problems.toolpath.plan.zoning.merge import (MergeSettings, merge_by
 from evoplan.problems.toolpath.plan.zoning.methods import (REGISTRY, ZoningMethod, ZoningSettings,
                                                       register, unregister)
 from evoplan.problems.toolpath.plan.zoning.plan import plan_zones
-from evoplan.problems.toolpath.plan.zoning.problem import ZonedToolpathProblem
+from evoplan.problems.toolpath.zoned import ZonedToolpathProblem
 from evoplan.problems.toolpath.plan.zoning.samples import sample_surface
 from evoplan.problems.toolpath.plan.zoning.stepover import ScallopTarget
 
