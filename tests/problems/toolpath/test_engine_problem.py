@@ -6,6 +6,7 @@ import json
 
 import numpy as np
 import pytest
+import yaml
 
 from evoplan.problems.toolpath import ToolpathProblem
 from evoplan.problems.toolpath.zoned import CHOI_TOOLS, ZonedToolpathProblem, zoning_config
@@ -168,3 +169,25 @@ def test_a_zoned_3axis_run_writes_its_plan_files(tmp_path):
         assert (out / name).read_bytes()[:4] == b"\x89PNG"
     apt = (out / "toolpath.apt").read_text().splitlines()
     assert "TLAXIS/0,0,1" in apt and any(line.startswith("$$ ZONE 0 PASS 0") for line in apt)
+
+
+FOUNTAS_5AXIS = ("{surface: fountas, tools: [{id: 6, type: toroidal, diameter: 16, corner_radius: 3}, "
+                 "{id: 9, type: ball, diameter: 16}], zoning: {method: kmeans, mesh: [10, 10]}, "
+                 "feed_angle: optimized, ranges: {zones: [2, 3]}, fixed: {tilt: 0}, "
+                 "weights: {machining_error: 0.5, eq4_total: 0.5}, "
+                 "normalization: {machining_error: [0, 1], eq4_total: [1000, 3000]}}")
+
+
+def test_a_zoned_5axis_run_with_a_fixed_tilt_writes_a_multi_axis_plan(tmp_path):
+    out = tmp_path / "res"
+    proc = evoplan("run", write(tmp_path / "f.yaml", RUN.format(params=FOUNTAS_5AXIS, extra="")),
+                   "--out", out)
+    assert proc.returncode == 0, proc.stderr
+    best = json.loads((out / "best.json").read_text())
+    assert set(best["variables"]) == {"tool", "stepover", "lead", "step", "zones"}  # no tilt
+    apt = (out / "toolpath.apt").read_text().splitlines()
+    assert "MULTAX/ON" in apt
+    zones = {line.split()[2] for line in apt if line.startswith("$$ ZONE ")}
+    problem = ToolpathProblem(**yaml.safe_load(FOUNTAS_5AXIS))
+    crit = problem.evaluate_params(best["variables"])
+    assert len(zones) == crit["zones"] and crit["objective"] == pytest.approx(best["objective"])
