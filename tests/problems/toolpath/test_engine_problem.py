@@ -158,16 +158,21 @@ CHOI_3AXIS = ("{surface: choi, tools: [{id: 1, type: ball, diameter: 6.35}], mac
               "normalization: {eq4_total: [0, 1]}}")
 
 
-def test_a_zoned_3axis_run_writes_its_plan_files(tmp_path):
+def _run(tmp_path, params):
+    """(best.json, toolpath.apt lines) of a tiny run of ``params``; both PNGs are written."""
     out = tmp_path / "res"
-    proc = evoplan("run", write(tmp_path / "z.yaml", RUN.format(params=CHOI_3AXIS, extra="")),
+    proc = evoplan("run", write(tmp_path / "r.yaml", RUN.format(params=params, extra="")),
                    "--out", out)
     assert proc.returncode == 0, proc.stderr
-    best = json.loads((out / "best.json").read_text())
-    assert set(best["variables"]) == {"zones"} and best["objective"] > 100  # mm; one tool: fixed
     for name in ("zone_map.png", "cc_pattern.png"):
         assert (out / name).read_bytes()[:4] == b"\x89PNG"
-    apt = (out / "toolpath.apt").read_text().splitlines()
+    return (json.loads((out / "best.json").read_text()),
+            (out / "toolpath.apt").read_text().splitlines())
+
+
+def test_a_zoned_3axis_run_writes_its_plan_files(tmp_path):
+    best, apt = _run(tmp_path, CHOI_3AXIS)
+    assert set(best["variables"]) == {"zones"} and best["objective"] > 100  # mm; one tool: fixed
     assert "TLAXIS/0,0,1" in apt and any(line.startswith("$$ ZONE 0 PASS 0") for line in apt)
 
 
@@ -179,13 +184,8 @@ FOUNTAS_5AXIS = ("{surface: fountas, tools: [{id: 6, type: toroidal, diameter: 1
 
 
 def test_a_zoned_5axis_run_with_a_fixed_tilt_writes_a_multi_axis_plan(tmp_path):
-    out = tmp_path / "res"
-    proc = evoplan("run", write(tmp_path / "f.yaml", RUN.format(params=FOUNTAS_5AXIS, extra="")),
-                   "--out", out)
-    assert proc.returncode == 0, proc.stderr
-    best = json.loads((out / "best.json").read_text())
+    best, apt = _run(tmp_path, FOUNTAS_5AXIS)
     assert set(best["variables"]) == {"tool", "stepover", "lead", "step", "zones"}  # no tilt
-    apt = (out / "toolpath.apt").read_text().splitlines()
     assert "MULTAX/ON" in apt
     zones = {line.split()[2] for line in apt if line.startswith("$$ ZONE ")}
     problem = ToolpathProblem(**yaml.safe_load(FOUNTAS_5AXIS))
