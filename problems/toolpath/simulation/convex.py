@@ -114,16 +114,19 @@ def _bend(ka, kb):
 
 @njit(cache=True, nogil=True, error_model="numpy")
 def _move_min(i, j, tip, axis, px, py, pz, dx, dy, dz, R, r, fa, sa, na, fb, sb, nb, best,
-              tol, bend_tol, near_miss, n_golden, g, stk, stats):
-    """The deepest entry over move i -> j (s in [0, 1]) if it is below ``best``, else best.
-    fa, sa, na / fb, sb, nb: entry, slope and 1 / cos at the ends (see the module doc).
+              tol, bend_tol, near_miss, n_golden, g, stk, stats, s0):
+    """(best, s): the deepest entry over move i -> j (s in [0, 1]) if it is below ``best``
+    (else best, -1) and where it is. fa, sa, na / fb, sb, nb: entry, slope and 1 / cos at
+    the ends (see the module doc); s0 in (0, 1): where to try first (the neighbouring
+    cell's deepest pose).
 
     Branch and bound over sub-intervals of the move, each bounded by :func:`_bound` with
     kap, a bound of how far the turning axis bends f away from convex (the cutter frame
     sees the ray move along a curve: d2y/ds2 = 2 da/ds x v, d2y/dsdt = da/ds x d, hence
     |f''| of the non-convex part <= 2 |da/ds| (|v| + |f'|) / cos), with a factor 2 to spare."""
+    s_best = -1.0
     if i == j:
-        return best
+        return best, s_best
     vx, vy, vz = tip[j, 0] - tip[i, 0], tip[j, 1] - tip[i, 1], tip[j, 2] - tip[i, 2]
     vlen = math.sqrt(vx * vx + vy * vy + vz * vz)
     n = 0
@@ -135,11 +138,12 @@ def _move_min(i, j, tip, axis, px, py, pz, dx, dy, dz, R, r, fa, sa, na, fb, sb,
         f, sl, nu = _at(sc, i, j, tip, axis, px, py, pz, dx, dy, dz, R, r, g)
         if f >= _HALF:
             if f - MISS > near_miss:
-                return best
+                return best, s_best
             stats[3] += 1
             return min(best, _golden(float(i), float(i) + 1.0, i, i + 1, tip, axis, px, py,
-                                     pz, dx, dy, dz, R, r, n_golden))
-        best = min(best, f)
+                                     pz, dx, dy, dz, R, r, n_golden)), s_best
+        if f < best:
+            best, s_best = f, sc
         stk[0, :] = (0.0, sc, fa, sa, nu, f, sl, nu, 0.0)
         stk[1, :] = (sc, 1.0, f, sl, nu, fb, sb, nu, 0.0)
         n = 2
@@ -163,20 +167,23 @@ def _move_min(i, j, tip, axis, px, py, pz, dx, dy, dz, R, r, fa, sa, na, fb, sb,
             ea = sa * 0.5 ** max(kept - 1.0, 0.0)
             eb = sb * 0.5 ** max(-kept - 1.0, 0.0)
             s = a - ea * w / (eb - ea)
-            if (s - a < 0.1 * w or b - s < 0.1 * w) and abs(
-                    (fb - fa) - 0.5 * (sa + sb) * w) > 0.3 * abs(0.5 * (sa + sb) * w):
-                # f is far from a parabola here (a steep wall at one end, where the ray
-                # grazes the cutter): regula falsi would creep along it, so bisect
-                s = 0.5 * (a + b)
+            st = (fb - fa + sa * a - sb * b) / (sa - sb)  # where the end tangents cross
+            if abs(s - st) > 0.2 * w:
+                # f is far from a parabola (a kink where the entry passes from the flat
+                # bottom to the corner, a steep wall where the ray grazes the cutter):
+                # regula falsi would creep, the tangents' crossing finds a kink
+                s = 0.5 * (s + st)
             s = min(max(s, a + 0.01 * w), b - 0.01 * w)
         else:
             s = 0.5 * (a + b)
             kept = 0.0
+        if evals == 0 and a < s0 < b:
+            s = s0
         f, sl, nu = _at(s, i, j, tip, axis, px, py, pz, dx, dy, dz, R, r, g)
         evals += 1
         stats[2] += 1
-        if f < _HALF:
-            best = min(best, f)
+        if f < best:
+            best, s_best = f, s
         # the side towards which f falls is searched first (pushed last); ``kept`` counts
         # how often in a row its end a (> 0) or b (< 0) was kept
         if sl < 0.0:
@@ -186,4 +193,4 @@ def _move_min(i, j, tip, axis, px, py, pz, dx, dy, dz, R, r, fa, sa, na, fb, sb,
             stk[n, :] = (s, b, f, sl, nu, fb, sb, nb, 0.0)
             stk[n + 1, :] = (a, s, fa, sa, na, f, sl, nu, max(kept, 0.0) + 1.0)
         n += 2
-    return best
+    return best, s_best

@@ -163,6 +163,7 @@ def sweep_moves(res, x0, y0, h, pz, nrm, inside, vertical, tip, axis, mv_i, mv_j
         ky, kx = tile // tx, tile % tx
         for iy in range(ky * ts, min(ky * ts + ts, ny)):
             py = y0 + iy * h
+            hint_m, hint_s = -1, -1.0  # the deepest move and pose of the previous cell
             for ix in range(kx * ts, min(kx * ts + ts, nx)):
                 if not inside[iy, ix]:
                     continue
@@ -170,6 +171,7 @@ def sweep_moves(res, x0, y0, h, pz, nrm, inside, vertical, tip, axis, mv_i, mv_j
                 dx, dy, dz = _ray(iy, ix, vertical, nrm)
                 p_z = pz[iy, ix]
                 best = res[iy, ix]
+                best_m, best_s = -1, -1.0
                 nc = 0
                 for q in range(ptr[tile], ptr[tile + 1]):
                     m = tile_mv[q]
@@ -179,7 +181,7 @@ def sweep_moves(res, x0, y0, h, pz, nrm, inside, vertical, tip, axis, mv_i, mv_j
                         continue
                     cm[nc] = m
                     _geo(i, j, tip, axis, px, py, p_z, dx, dy, dz, geo[nc])
-                    key[nc] = _geo_bound(geo[nc], 0.0, R, r)
+                    key[nc] = -INF if m == hint_m else _geo_bound(geo[nc], 0.0, R, r)
                     done[nc] = False
                     order[nc] = nc
                     k = nc
@@ -212,14 +214,18 @@ def sweep_moves(res, x0, y0, h, pz, nrm, inside, vertical, tip, axis, mv_i, mv_j
                         stats[0] += 1
                         f1 = _point(j, tip, axis, px, py, p_z, dx, dy, dz, R, r, cg[c, 1])
                     done[c] = True
-                    best = min(best, f0, f1)
                     cf[c, 0] = f0
                     cf[c, 1], cf[c, 2] = _end_slope(cg[c, 0], i, i, j, tip, axis)
                     cf[c, 3] = f1
                     cf[c, 4], cf[c, 5] = _end_slope(cg[c, 1], j, i, j, tip, axis)
                     stats[1] += 1
-                    best = _move_min(i, j, tip, axis, px, py, p_z, dx, dy, dz, R, r,
-                                     cf[c, 0], cf[c, 1], cf[c, 2], cf[c, 3], cf[c, 4],
-                                     cf[c, 5], best, tol, bend_tol, near_miss, n_golden, gs, stk,
-                                     stats)
+                    if min(f0, f1) < best:
+                        best, best_m, best_s = min(f0, f1), m, 0.0 if f0 <= f1 else 1.0
+                    got, s_got = _move_min(i, j, tip, axis, px, py, p_z, dx, dy, dz, R, r,
+                                           cf[c, 0], cf[c, 1], cf[c, 2], cf[c, 3], cf[c, 4],
+                                           cf[c, 5], best, tol, bend_tol, near_miss, n_golden,
+                                           gs, stk, stats, hint_s if m == hint_m else -1.0)
+                    if got < best:
+                        best, best_m, best_s = got, m, s_got
                 res[iy, ix] = best if best < _HALF else INF
+                hint_m, hint_s = best_m, best_s

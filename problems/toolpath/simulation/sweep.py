@@ -13,13 +13,32 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 
 from ..clpath import CLPath
 from .design import DesignGrid
-from .moves import sweep_moves, tiles
-from .stamp import sweep as sweep_stamps
+
+
+def _drop_stale_numba_caches() -> None:
+    """numba's on-disk cache of a function checks only its own file, not the kernels it
+    calls from the others (kernel.py <- convex.py <- moves.py, kernel.py <- stamp.py): drop
+    the cache entries older than any of those files, so an edited kernel is compiled again."""
+    here = Path(__file__).parent
+    newest = max((here / f"{m}.py").stat().st_mtime for m in ("kernel", "convex", "moves", "stamp"))
+    for index in (here / "__pycache__").glob("*.nbi"):
+        try:
+            if index.stat().st_mtime < newest:
+                index.unlink()
+        except OSError:
+            pass
+
+
+_drop_stale_numba_caches()
+
+from .moves import sweep_moves, tiles  # noqa: E402
+from .stamp import sweep as sweep_stamps  # noqa: E402
 
 __all__ = ["Residual", "sweep_path", "poses", "moves"]
 
