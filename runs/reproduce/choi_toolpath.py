@@ -28,18 +28,22 @@ import time
 from pathlib import Path
 
 import numpy as np
-from scipy import ndimage
-
 from evoplan.problems.toolpath.geometry.spec import parse_surface
 from evoplan.problems.toolpath.plan.planner import Planner
 from evoplan.problems.toolpath.plan.zones import ZoningSpec
 from evoplan.problems.toolpath.plan.zoning.merge import MergeSettings
 from evoplan.problems.toolpath.plan.zoning.passes import zone_passes
-from evoplan.problems.toolpath.plan.zoning.stepover import ScallopTarget, plane_spacing
 from evoplan.problems.toolpath.plan.zoning.problem import CHOI_TOOLS
-from evoplan.problems.toolpath.simulation import cell_labels, design_grid, residual_metrics, sweep_path
+from evoplan.problems.toolpath.plan.zoning.stepover import ScallopTarget, plane_spacing
+from evoplan.problems.toolpath.simulation import (
+    cell_labels,
+    design_grid,
+    residual_metrics,
+    sweep_path,
+)
 from evoplan.problems.toolpath.simulation.figures import deviation_map_png
 from evoplan.problems.toolpath.tools import parse_tools
+from scipy import ndimage
 
 HERE = Path(__file__).resolve().parent
 H_C, DELTA_L, STEP, ALLOWANCE = 0.254, 40.0, 1.0, 0.5
@@ -51,27 +55,37 @@ PUBLISHED = "1717 mm (Choi, ball, iso-scallop), 1183 mm (Djebali, AMAS, torus r 
 READING = """## Reading
 
 - Columns: *cut* is what the plan claims and the machine feeds: the moves between its CC
-  points, including the runs past the part's edge that the 3-axis plan needs to cut the
-  edge wedges (``plan/overrun.py``); *on part* leaves those runs out, which is what the
-  papers' lengths count; *feed* is the CL tip's feed travel of the path the machine runs
-  (CL chord refinement included). *max > 1 mm in* is the scallop max over the cells more
-  than 1 mm inside the part's edge: it tells the zone borders and the inside from the edge
-  row.
-- The published 1183 mm (Djebali) is not reached by any plan that really keeps the scallop
-  under h_c; the shortest zoned toroidal plan that does is in the line under the main table.
-  Zoned torus plans do beat the single-zone torus and ball plans of this engine.
+  points, including the runs past the part's edge that a 3-axis plan needs to cut the edge
+  wedges (``plan/overrun.py``); *on part* leaves those runs out (what the papers' lengths
+  count); *feed* is the CL tip's feed travel of the path the machine runs (after the CL
+  chord refinement); *max > 1 mm in* is the scallop max over the cells more than 1 mm
+  inside the part's edge, which tells zone borders and the inside from the edge row.
+- Target: NOT met. No plan that really keeps the scallop under h_c comes near Djebali's
+  1183 mm. The shortest zoned toroidal plan that meets h_c (the line under the main table)
+  is about 5 % shorter than the single-zone ball and 10 % shorter than the single-zone torus
+  of this engine. Counted as the papers count (on the part, plus Eq. 4's 40 mm a zone),
+  it is at Herraz's 1437 mm.
+- Failures inside the part (see *max > 1 mm in*): K-means K=5 (torus r 1) leaves 0.35 mm
+  on the zone border at y = 38 mm, x = 3-9 mm; AMAS k_LZ=0.15 (r 1) and k_LZ=0.05
+  (r 1.27) leave 0.28-0.29 mm on or next to a zone border. The single-zone tori, AMAS k_LZ=0.3 (r 1) and
+  K=6 (r 1.27) fail only in the edge row and corners (0.29 mm spikes, a few uncut cells).
+  The flat end mill fails inside too (0.30 mm). The 0.13 mm gouge of K=6 (r 1.27) and the
+  0.04 mm gouge of the single-zone torus r 1 lie in the last row of cells at y = 76 mm,
+  where the edge runs are.
 - Where the length goes (second table): the worst-point rule of parallel planes (each plane
-  as far from the previous one as the pass's WORST point allows) costs about 25 % over the
-  local-spacing floor, in every zone alike; the band overlap of neighbouring zones (a plane
-  is cut wherever its band, the strip to its two neighbours, holds zone material) adds a few
-  per cent over the binned plan; the edge runs add 115-240 mm; Eq. 4 adds 40 mm a zone.
-  Even the floor with three zones (about 1030 + 80 mm) is close to Djebali's 1183 mm, so a
-  zoned parallel-plane plan that really meets h_c cannot reach it on this surface.
-- Levers (third table): planning at a larger h_c does not pay: 5 % over h_c already puts
-  the simulated max over 1.1 h_c (the spacing is tight at the worst points, where the
-  simulated scallop reaches h_c; the p99 headroom comes from the rest of each pass).
-  Merging into fewer, larger zones (20 % of the area at least) lengthens the plans; no
-  merging at all fragments K-means K >= 5 and AMAS into 17-25 zones.
+  as far from the previous one as its pass's WORST point allows) costs 25-28 % over the
+  local-spacing floor, in every zone alike. Cutting each plane wherever its band (the strip
+  to its two neighbours) holds zone material adds 2-14 % over the binned plan. The edge
+  runs add 115-240 mm and Eq. 4 adds 40 mm a zone. With three zones the floor alone is
+  1007-1028 + 80 mm, already close to 1183 mm. So a zoned parallel-plane plan that really
+  meets h_c cannot reach 1183 mm on this surface: the gap is in the pass rule (one spacing
+  along a whole pass), not in the zones.
+- Levers (third table): planning at a larger h_c does not pay. At 5 % over h_c the
+  simulated max is at or over 1.1 h_c (0.279-0.308 mm): the spacing is tight at the worst
+  points, where the simulated scallop does reach h_c, and the p99 headroom comes from the
+  rest of each pass. The scaled h_c also changes the zones and directions, so a plan does
+  not even get shorter every time. Fewer, larger zones (merging up to 20 % of the area)
+  make the plans longer. Without merging, K-means K=5 and AMAS split into 17-161 zones.
 """
 
 
@@ -155,9 +169,9 @@ VARIANTS = [("h_c x 1.05 in the planner", 1.05, "default"), ("h_c x 1.1", 1.1, "
 
 def analysis(surface, tools, grid, interior, memo) -> list[str]:
     """The length breakdown and the levers' tables (torus r 1)."""
-    out = ["## Where the length goes (torus r 1)", "",
-           "| plan | zones | local-spacing floor | binned worst-point plan | real sections on "
-           "the part | cut (with edge runs) | Eq. 4 |", "|---|---|---|---|---|---|---|"]
+    head = ("| plan | zones | local-spacing floor | binned worst-point plan | real sections on "
+            "the part | cut (with edge runs) | Eq. 4 |")
+    out = ["## Where the length goes (torus r 1)", "", head, "|---|---|---|---|---|---|---|"]
     lever = ["## Levers, each checked by the simulation (torus r 1)", "",
              "| plan | variant | zones | cut | on part | Eq. 4 | scallop max | p99 | meets h_c |",
              "|---|---|---|---|---|---|---|---|---|"]
@@ -237,14 +251,15 @@ def main() -> None:
         print(table([r], tools)[-1], flush=True)
     ok = [r for r in rows if meets(r) and r["tool"] in (1, 2) and r["zones"] > 1]
     best = min(ok, key=lambda r: r["eq4"]) if ok else None
-    lines = [f"# Choi's surface through the one toolpath engine (3-axis drop-cutter, "
-             f"h_c {H_C} mm, simulated on a {args.grid} mm grid)", "",
-             f"Generated by `python {Path(__file__).relative_to(HERE.parents[1])} "
+    title = (f"# Choi's surface through the one toolpath engine (3-axis drop-cutter, "
+             f"h_c {H_C} mm, simulated on a {args.grid} mm grid)")
+    intro = (f"Generated by `python {Path(__file__).relative_to(HERE.parents[1])} "
              f"--grid {args.grid}{' --quick' if args.quick else ''}"
              f"{' --analysis' if args.analysis else ''}` (3-axis drop-cutter, scallop "
              f"spacing, step {STEP:g} mm, chord tolerance 0.01 mm). Lengths in mm; "
              f"Eq. 4 = cut + (zones - 1) x {DELTA_L:g} mm; scallop / gouge in mm from the "
-             "simulated cut; meets h_c = simulated p99 < h_c and max <= 1.1 h_c.", "",
+             "simulated cut; meets h_c = simulated p99 < h_c and max <= 1.1 h_c.")
+    lines = [title, "", intro, "",
              *table(rows, tools), "", f"Published: {PUBLISHED}.", ""]
     if best is not None:
         lines.append(f"Shortest zoned toroidal plan that meets h_c: {label(best, tools)}, "
