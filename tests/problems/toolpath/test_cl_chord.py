@@ -54,9 +54,12 @@ def _dense_deviation(surface, cutter, path, n=24):
     return float(np.abs(z - chord[..., 2]).max())
 
 
-#: with the planner of 17:35 UTC: the D8 r1 path meets the tolerance (dense check 0.0097 mm)
-#: but its info reports a chord_deviation of 4.5 mm (a move the refinement stops at)
-REPORTED = pytest.mark.xfail(strict=True, reason="Planner.cl_path reports chord_deviation 4.5 mm")
+#: measured with the planner of commit 18e6f4d: the D8 r1 path meets the tolerance (dense
+#: check 0.0097 mm), but its info reports chord_deviation 4.5 mm: the figure of the CC-based
+#: check (``refine_chords``), which a drop-cutter path's edge moves (two CL points of one CC
+#: point) fail by the edge shift; ``refine_drop_moves`` then splits them, and reports nothing
+REPORTED = pytest.mark.xfail(strict=True, reason="Planner.cl_path reports the CC-based "
+                             "chord_deviation (4.5 mm), not the drop moves' (see REPORTED)")
 
 
 @pytest.mark.parametrize("d, r", [pytest.param(8.0, 1.0, marks=REPORTED), (6.35, 3.175)])
