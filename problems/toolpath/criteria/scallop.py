@@ -5,7 +5,7 @@ Two models:
 1. The effective-radius (osculating circle) model of the papers, exact circle geometry:
    :func:`scallop_height` (flat, convex, concave), :func:`flat_scallop`, and the spacings of
    Djebali et al. Sec. 2.3 (:func:`stepover_djebali_eq2`, :func:`spacing_exact`).
-2. The projected-profile model the simulator uses (:func:`gap_heights` on the tables of
+2. The projected-profile model of the 5-axis analytic criteria (:func:`gap_heights` on the tables of
    ``cutters.silhouette.profile_tables``): the cutter is projected along the feed onto the
    plane normal to the feed, exactly (for a straight move this is the cross-section of the
    swept volume): the rim circle projects to an ellipse (a segment when the rim plane
@@ -107,7 +107,7 @@ def spacing_flat_approx(h, r_eff):
 
 
 # -------------------------------------------------------------------------------------
-# Projected-profile model (used by the simulator)
+# Projected-profile model (the 5-axis analytic criteria)
 # -------------------------------------------------------------------------------------
 
 def profile_height(tables, row, x):

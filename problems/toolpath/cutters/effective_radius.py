@@ -10,7 +10,7 @@ a unit tool axis, t unit feed tangent, n unit surface normal (tool side).
 
 Accuracy (docs/toolpath_formulas.md): against a Z-map of the swept tool, the R_eff circle is
 within 2-4 % for ball-end tools but only approximate (15-30 % off) for flat-end and toroidal
-tools, whose true cross-feed profile is an ellipse (offset by r). The simulator therefore
+tools, whose true cross-feed profile is an ellipse (offset by r). The engine therefore
 computes scallops from the exact projected profile (``silhouette.py``), whose curvature at
 the contact is this R_eff; R_eff itself is reported as a criterion. The cutter methods
 (``Cutter.effective_radius*``) call these functions; batched users (one row per tool) call

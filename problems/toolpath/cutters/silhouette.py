@@ -16,7 +16,7 @@ circle of radius R_eff does not: a flat bottom, a rim that cuts, a cusp past the
 
 - :func:`silhouette_point`: (*), batched; the one implementation.
 - :func:`profile_tables`: 5-axis, lead/tilt, the profile on both sides of the contact as
-  tables (the analytic simulator's scallops, ``scallop.py``).
+  tables (the analytic criteria's 5-axis scallops, ``criteria/scallop.py``).
 - :func:`side_width_exact`: 3-axis, vertical axis, the lateral offset where the profile rises
   to a height (the zoning's step-over, ``zoning/profile.py``).
 """

@@ -1,7 +1,7 @@
 """Tensor-product B-spline surfaces, evaluated with ``scipy.interpolate.NdBSpline``.
 
 S(u, v) = sum_i sum_j N_i^p(u) N_j^q(v) P_ij over the knot vectors (Piegl & Tiller, Eq. 3.11).
-The parameters exposed to the simulator are rescaled to [0, 1]^2 (derivatives are scaled
+The parameters exposed to the engine are rescaled to [0, 1]^2 (derivatives are scaled
 accordingly); the knot vectors may span any interval.
 """
 

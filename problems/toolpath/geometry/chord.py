@@ -10,7 +10,7 @@ The sagitta it means (docs/toolpath_formulas.md) is
 
 (:func:`chord_error_normals`). Caveat: theta = arccos(n1.n2) also counts the twist of the
 normal about the path, which on Fountas' surface doubles the error (0.0083 mm instead of the
-true 0.0040 mm at a 5 mm step). The simulator therefore measures the true curve-to-chord
+true 0.0040 mm at a 5 mm step). The engine therefore measures the true curve-to-chord
 distance (:func:`chord_deviation`): the pass curve is evaluated at the middle of each segment
 (middle of its feed coordinate) and its distance to the chord is taken; for a curve of slowly
 varying curvature the deviation is a parabola in the feed coordinate peaking at that middle,

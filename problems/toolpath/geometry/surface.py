@@ -5,7 +5,7 @@ A surface maps the unit square (u, v) in [0, 1]^2 to R^3. Every surface here ret
 parameters at once; the differential geometry (unit normal, fundamental forms, normal and
 principal curvatures) is computed from a jet by the module functions below.
 
-Sign convention (used throughout the simulator): the unit normal points to the tool side
+Sign convention (used throughout the engine): the unit normal points to the tool side
 (``+z`` for the shipped surfaces: the tool comes from above), and a normal curvature is
 ``II(d, d) / I(d, d)`` with that normal, so **kappa > 0 means the surface bends towards the
 tool (concave seen from the tool)** and kappa < 0 convex. This is the sign of the reference

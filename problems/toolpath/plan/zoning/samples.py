@@ -15,7 +15,7 @@ from the parametric jet by the chain rule, with J = d(x, y)/d(u, v):
 where Z_uv, X_uv, Y_uv are the 2x2 second-derivative matrices of z, x and y. With the
 normal n = (-p, -q, 1) / W, W = sqrt(1 + p^2 + q^2) on the tool side, the second fundamental
 form in the (x, y) parameters is H / W and the first is I = [[1 + p^2, pq], [pq, 1 + q^2]],
-so a curvature > 0 is concave seen from the tool (the simulator's sign, ``surface.py``).
+so a curvature > 0 is concave seen from the tool (the engine's sign, ``geometry/surface.py``).
 
 Assumption: the surface is a graph over XY (det J never 0 on the domain); a surface with a
 vertical wall or a fold is refused with a one-line error.
