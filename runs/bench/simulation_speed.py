@@ -1,11 +1,15 @@
 """Speed of the cut simulation: grid size, path length, the profile, and a population.
 
-    python runs/bench/simulation_speed.py [--fine] [--profile] [--population]
+    python runs/bench/simulation_speed.py [--fine] [--method stamps] [--profile] [--population]
 
 - The Fountas VEGA set (tool 6, 41.729 %, lead 2.957, tilt 0.027, step 6.338) at grids of
   0.2, 0.1 and 0.05 mm (and 0.02 mm with --fine): seconds to build the design grid and to
   sweep the path, wall and CPU of this process (numba runs on one core; BLAS is held to
   one thread here).
+- --method: the sweep by moves (default) or by stamps (the reference, the former default).
+- The work of the sweep by moves per cell on the part (0.1 mm grid): entries computed at CL
+  points, moves searched, entries computed in the searches (numba code is opaque to the
+  profiler, so the kernel counts its own work).
 - Path length: the same tool and angles at step-overs 20, 30 and 45 % (0.1 mm grid).
 - --profile: pyinstrument's top lines for one 0.1 mm simulation.
 - --population: a population of 20 random parameter sets with ``criteria: simulated``
@@ -26,7 +30,8 @@ import time  # noqa: E402
 import numpy as np  # noqa: E402
 
 from evoplan.problems.toolpath.problem import ToolpathProblem  # noqa: E402
-from evoplan.problems.toolpath.simulation import design_grid, sweep_path  # noqa: E402
+from evoplan.problems.toolpath.simulation import design_grid, sweep  # noqa: E402
+from evoplan.problems.toolpath.simulation import sweep_path as _sweep_path  # noqa: E402
 
 VEGA = dict(tool=6, stepover=41.729, lead=2.957, tilt=0.027, step=6.338)
 NORM = {"machining_error": [0, 0.5], "cc_count": [0, 1000]}
@@ -43,7 +48,12 @@ def main() -> None:
     ap.add_argument("--fine", action="store_true", help="also the 0.02 mm grid")
     ap.add_argument("--profile", action="store_true")
     ap.add_argument("--population", action="store_true")
+    ap.add_argument("--method", choices=("moves", "stamps"), default="moves")
     args = ap.parse_args()
+
+    def sweep_path(p, g):
+        return _sweep_path(p, g, method=args.method)
+
     pr = ToolpathProblem(normalization=NORM)
     path, _ = pr.cl_path(VEGA)
     sweep_path(path, design_grid(pr.surface, 1.0))  # compile / load the numba cache
@@ -56,6 +66,11 @@ def main() -> None:
         print(f"| {h} | {int(grid.inside.sum())} | {gw:.2f} / {gc:.2f} | {sw:.2f} / {sc:.2f} | "
               f"{gc + sc:.2f} |", flush=True)
     grid = design_grid(pr.surface, 0.1)
+    if args.method == "moves":
+        sweep_path(path, grid)
+        cells = int(grid.inside.sum())
+        print(f"\nwork per cell (0.1 mm grid): " + ", ".join(
+            f"{k} {v / cells:.2f}" for k, v in sweep.last_stats.items()))
     print("\n| step-over (%) | CL points | feed length (mm) | sweep CPU (s), 0.1 mm grid |")
     print("|---|---|---|---|")
     for so in (20.0, 30.0, 45.0):
