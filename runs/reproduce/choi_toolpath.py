@@ -24,6 +24,7 @@ Published for comparison: 1717 mm (Choi), 1183 mm (Djebali), 1437 mm (Herraz).
 from __future__ import annotations
 
 import argparse
+import subprocess
 import time
 from pathlib import Path
 
@@ -87,6 +88,16 @@ READING = """## Reading
   not even get shorter every time. Fewer, larger zones (merging up to 20 % of the area)
   make the plans longer. Without merging, K-means K=5 and AMAS split into 17-161 zones.
 """
+
+
+def source_state() -> str:
+    """The commit the figures come from, and whether the planner's tree had local changes."""
+    def git(*a):
+        return subprocess.run(["git", *a], cwd=HERE, capture_output=True, text=True,
+                              check=False).stdout
+    dirty = git("status", "--porcelain", "--", str(HERE.parents[1] / "problems")).strip()
+    return git("rev-parse", "--short", "HEAD").strip() + (
+        " with uncommitted changes under problems/" if dirty else "")
 
 
 def cases(args) -> list[tuple[str, int, object]]:
@@ -258,7 +269,8 @@ def main() -> None:
              f"{' --analysis' if args.analysis else ''}` (3-axis drop-cutter, scallop "
              f"spacing, step {STEP:g} mm, chord tolerance 0.01 mm). Lengths in mm; "
              f"Eq. 4 = cut + (zones - 1) x {DELTA_L:g} mm; scallop / gouge in mm from the "
-             "simulated cut; meets h_c = simulated p99 < h_c and max <= 1.1 h_c.")
+             "simulated cut; meets h_c = simulated p99 < h_c and max <= 1.1 h_c. "
+             f"Source: commit {source_state()}.")
     lines = [title, "", intro, "",
              *table(rows, tools), "", f"Published: {PUBLISHED}.", ""]
     if best is not None:
