@@ -67,12 +67,15 @@ def refine_drop_moves(points: dict, cutter, surface, tolerance: float, rounds: i
     is vertical, at the move's own XY: exactly what the machine's straight move does.
     ``points``: per-point arrays in path order with ``tip`` and ``section``; an inserted row
     (the drop-cutter tip at the move's mid XY) repeats its left neighbour's other fields.
-    Returns (points, number of points inserted)."""
+    Returns (points, stats: ``chord_added`` points inserted, ``chord_rounds``,
+    ``chord_deviation`` the largest vertical deviation left at the checked points,
+    ``chord_tolerance``)."""
     pts = dict(points)
     q = np.array([0.25, 0.5, 0.75])
-    added = 0
+    added = done = 0
     pending = None
-    for _ in range(rounds):
+    dev = np.zeros(max(len(pts["tip"]) - 1, 0))
+    while True:
         tip = pts["tip"]
         i = np.flatnonzero(pending) if added else np.flatnonzero(
             pts["section"][1:] == pts["section"][:-1])
@@ -81,15 +84,23 @@ def refine_drop_moves(points: dict, cutter, surface, tolerance: float, rounds: i
         xy = (1 - q[:, None, None]) * tip[i, :2] + q[:, None, None] * tip[i + 1, :2]
         chord_z = (1 - q[:, None]) * tip[i, 2] + q[:, None] * tip[i + 1, 2]
         z = cutter.drop_cutter(surface, xy.reshape(-1, 2)).reshape(3, -1)
-        bad = np.nanmax(np.abs(np.where(np.isfinite(z), z - chord_z, 0.0)), axis=0) > tolerance
-        if not bad.any():
+        dev[i] = np.max(np.abs(np.where(np.isfinite(z), z - chord_z, 0.0)), axis=0)
+        bad = dev[i] > tolerance
+        if not bad.any() or done == rounds:
             break
+        done += 1
         left = i[bad]
         new_tip = np.column_stack([xy[1][bad], z[1][bad]])
         for key, arr in pts.items():
-            pts[key] = np.insert(arr, left + 1, new_tip if key == "tip" else arr[left], axis=0)
+            value = new_tip if key == "tip" else arr[left]
+            if key == "inserted":  # the rows this refinement adds (not placed at a CC point)
+                value = np.ones(len(left), bool)
+            pts[key] = np.insert(arr, left + 1, value, axis=0)
+        dev = np.insert(dev, left + 1, 0.0)
         at = left + 1 + np.arange(len(left))  # the new rows: check both halves next round
         pending = np.zeros(len(pts["tip"]) - 1, bool)
         pending[at - 1] = pending[at] = True
         added += len(left)
-    return pts, added
+    return pts, {"chord_added": added, "chord_rounds": done,
+                 "chord_deviation": float(dev.max(initial=0.0)),
+                 "chord_tolerance": float(tolerance)}

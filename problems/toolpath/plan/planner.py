@@ -126,9 +126,10 @@ class Planner:
     def cl_path(self, genes: dict, feed_rate: float = 1000.0, chord_rounds: int = 8) -> CLPath:
         """The toolpath of ONE decision set (``genes``: a value or a (1,) array per name) as
         the machine runs it. A 3-axis plan's moves are split until each stays within the
-        chord tolerance of the placement's CL curve (``zoning/chord.py``: the drop-cutter
-        tip falls away at edges and crests, and a straight move there would cut into the
-        part); ``info`` reports it and the CC points."""
+        chord tolerance of the placement's CL curve: the drop-cutter tip falls away at edges
+        and crests and swings round corners, and a straight move there would cut into the
+        part (``overrun.refine_drop_moves``, checked at the move's own XY; a tangent
+        placement: ``zoning/chord.py``); ``info`` reports it and the CC points."""
         one = {k: np.atleast_1d(np.asarray(v))[:1] for k, v in genes.items()}
         batch = self.plan(one, place=True)
         tool = self.tools.tools[int(one["tool"][0])]
@@ -137,19 +138,21 @@ class Planner:
             return path
         pts = {"uv": path.info["uv"], "cc": path.info["cc"], "normal": path.info["normal"],
                "tip": path.tip, "section": path.section, "pass_index": path.pass_index,
-               "zone": path.zone, "on_part": path.info["on_part"]}
+               "zone": path.zone, "on_part": path.info["on_part"],
+               "inserted": np.zeros(len(path), bool)}
         cutter = tool.cutter
 
         def place(c, surface, cc, normal):
             return self.machine.tips(c, surface, cc, normal, None)
 
-        pts, stats = refine_chords(self.surface, cutter, place, pts, self.tolerance,
-                                   chord_rounds)
-        if self.machine.overrun:  # the drop-cutter placement: check every move at its XY
-            pts, stats["drop_added"] = refine_drop_moves(pts, cutter, self.surface,
-                                                         self.tolerance, chord_rounds)
+        refine = refine_drop_moves if self.machine.overrun else None
+        if refine is not None:  # the drop-cutter placement: every move at its own XY
+            pts, stats = refine(pts, cutter, self.surface, self.tolerance, chord_rounds)
+        else:
+            pts, stats = refine_chords(self.surface, cutter, place, pts, self.tolerance,
+                                       chord_rounds)
         info = {"cc": pts["cc"], "uv": pts["uv"], "normal": pts["normal"],
-                "on_part": pts["on_part"], **stats}
+                "on_part": pts["on_part"], "inserted": pts["inserted"], **stats}
         return CLPath(pts["tip"], np.array([0.0, 0.0, 1.0]), tool.diameter,
                       tool.corner_radius, section=pts["section"],
                       pass_index=pts["pass_index"], zone=pts["zone"], feed_rate=feed_rate,

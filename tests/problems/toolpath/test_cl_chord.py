@@ -54,15 +54,7 @@ def _dense_deviation(surface, cutter, path, n=24):
     return float(np.abs(z - chord[..., 2]).max())
 
 
-#: measured with the planner of commit 18e6f4d: the D8 r1 path meets the tolerance (dense
-#: check 0.0097 mm), but its info reports chord_deviation 4.5 mm: the figure of the CC-based
-#: check (``refine_chords``), which a drop-cutter path's edge moves (two CL points of one CC
-#: point) fail by the edge shift; ``refine_drop_moves`` then splits them, and reports nothing
-REPORTED = pytest.mark.xfail(strict=True, reason="Planner.cl_path reports the CC-based "
-                             "chord_deviation (4.5 mm), not the drop moves' (see REPORTED)")
-
-
-@pytest.mark.parametrize("d, r", [pytest.param(8.0, 1.0, marks=REPORTED), (6.35, 3.175)])
+@pytest.mark.parametrize("d, r", [(8.0, 1.0), (6.35, 3.175)])
 def test_refined_moves_stay_within_tolerance_of_the_drop_cutter_curve(d, r):
     surface = Ridge()
     raw, path, cutter, planes = _paths(d, r)
@@ -76,7 +68,10 @@ def test_refined_moves_stay_within_tolerance_of_the_drop_cutter_curve(d, r):
     assert np.all(np.isin(raw.tip[:, 0], path.tip[:, 0]))
     assert np.array_equal(np.unique(path.section), np.unique(raw.section))
     same = path.section[1:] == path.section[:-1]
-    assert np.linalg.norm(np.diff(path.tip[:, :2], axis=0), axis=1)[same].max() <= 2.0 + 1e-9
+    on = path.info["on_part"]  # (the runs past the part's edges hold no CC point)
+    cc_step = np.linalg.norm(np.diff(path.info["cc"][:, :2], axis=0), axis=1)[same & on[1:] & on[:-1]]
+    assert cc_step.max() <= 2.0 + 1e-9  # the CC points keep the step; new tips split moves
+    assert path.info["inserted"].sum() == info["chord_added"]
     assert np.allclose(path.tip[:, 2], cutter.drop_cutter(surface, path.tip[:, :2]))
     off = path.info["cc"][:, :2] @ [-np.sin(ALPHA), np.cos(ALPHA)]
     assert np.abs(off[:, None] - planes[None]).min(axis=1).max() < 1e-6

@@ -78,7 +78,8 @@ def refine_chords(surface, cutter, place, points: dict, tolerance: float, rounds
             break
         done += 1
         left, rows = i[bad], mid[bad]
-        new = {"uv": uv[rows], "cc": cc[rows], "normal": normal[rows], "tip": tip[rows]}
+        new = {"uv": uv[rows], "cc": cc[rows], "normal": normal[rows], "tip": tip[rows],
+               "inserted": np.ones(len(rows), bool)}
         for key, arr in pts.items():
             pts[key] = np.insert(arr, left + 1, new[key] if key in new else arr[left], axis=0)
         move_dev = np.insert(move_dev, left + 1, 0.0)
