@@ -96,6 +96,13 @@ class ZoneLayouts:
         self._features = self._samples = None
         self._memo: dict = {}
 
+    def __getstate__(self):
+        """Pickled without the memo and the samples (megabytes a worker process rebuilds
+        faster than it unpickles them, and the same numbers either way)."""
+        state = dict(self.__dict__)
+        state.update(_features=None, _samples=None, _memo={})
+        return state
+
     @property
     def features(self):
         if self._features is None:

@@ -179,3 +179,19 @@ def test_a_plan_does_not_depend_on_the_other_plans_of_its_batch():
     x = rng.uniform(-1, 11, 50)
     expected = [np.interp(x[i], xp[i], fp[i]) for i in range(50)]
     assert np.allclose(interp_rows(xp, fp, x), expected, rtol=0, atol=1e-12)
+
+
+def test_a_pickled_planner_is_small_and_plans_the_same():
+    """The processes backend sends the problem to its workers: the zone layouts' memo and
+    samples stay behind and are rebuilt, with the same numbers."""
+    import pickle
+
+    planner = Planner(parse_surface("choi"), parse_tools(TORUS), machine="3axis",
+                      spacing="scallop", h_c=H_C, feed_angle=None,
+                      zoning=ZoningSpec("kmeans", mesh=(12, 12)))
+    genes = _one(tool=0, step=1.0, zones=2)
+    before = planner.plan(genes, place=False)
+    data = pickle.dumps(planner)
+    assert len(data) < 2_000_000
+    after = pickle.loads(data).plan(genes, place=False)
+    assert np.array_equal(before.p, after.p) and np.array_equal(before.seg_len, after.seg_len)
