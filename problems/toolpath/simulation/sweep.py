@@ -150,11 +150,18 @@ def sweep_path(path: CLPath, grid: DesignGrid, *, vertical: bool = False, method
                pose_step: float | None = None, n_slots: int = 3) -> Residual:
     """The residual of every cell after the whole path has been cut (see the module doc).
 
-    ``method="moves"`` (default, ``convex.py``): every feed move is searched exactly for
-    each cell it can reach, using the convexity of the entry along a move; ``tol`` (mm of
-    entry, default 1e-6) is how far above the tangents' lower bound the search may stop;
+    ``method="moves"`` (default, ``moves.py`` and ``convex.py``): every feed move is
+    searched exactly for each cell it can reach, using the convexity of the entry along a
+    move; ``tol`` (mm of entry, default 1e-6) is how far above the tangents' lower bound the
+    search may stop, ``bend_tol`` the same for the allowance the turning axis needs;
     ``near_miss`` (mm): a move whose both ends miss the ray is searched when its closest
-    pose misses by less; ``tile_mm``: the side of the tiles that list the moves.
+    pose misses by less; ``tile_mm``: the side of the tiles that list the moves. Measured
+    on Fountas' part (0.2 mm grid, ``runs/bench/simulation_accuracy.py``) against the stamp
+    sweep with poses 0.05 mm apart, 6 slots, refined to 2e-4 mm of travel: torus D16 r3
+    (the VEGA set) and ball D12 within 5e-7 mm, flat D8 within 3.4e-5 mm, on every cell
+    (the stamp sweep at its defaults was 0.0016 / 0.0043 / 0.027 mm off). A ray that only
+    grazes the rim far above the part (entries over ~1 mm) may stop at the search's 60
+    entries a few um off.
 
     ``method="stamps"`` (``stamp.py``), the reference: poses ``pose_step`` mm of tip travel
     apart (default 0.75, 0.25 for a flat end), the ``n_slots`` deepest poses of different
