@@ -48,7 +48,8 @@ class ToolpathProblem(Problem):
     strategy (``strategy.py``): ``machine`` 5axis | 3axis, ``placement`` (3-axis: drop | cc),
     ``zoning`` {method: single | kmeans | amas, mesh, merge, settings, seed}, ``spacing``
     stepover | scallop, ``h_c`` (mm; 0.254 with scallop spacing), ``delta_l`` (mm, Eq. 4),
-    ``feed_angle`` (degrees from +X, or ``optimized``), ``tolerance`` (chord, mm). The
+    ``feed_angle`` (degrees from +X, or ``optimized``), ``tolerance`` (chord, mm),
+    ``edge_overrun`` (true: passes run on past the part's edges). The
     decisions: ``ranges`` {gene: [lo, hi]}, ``fixed`` {gene: value} (the tool by its id).
     The judgement: ``weights`` (criterion -> weight, default machining_error 0.5 + cc_count
     0.5), ``objectives`` (a list of criteria: a multi-objective F), ``normalization``
@@ -65,14 +66,14 @@ class ToolpathProblem(Problem):
                  tolerance=0.01, feed_rate=1000.0, allowance=0.5, weights=None,
                  objectives=None, normalization=None, normalization_samples=64, seed=0,
                  criteria="analytic", simulation=None, ranges=None, fixed=None,
-                 base_dir=None, max_rounds=6):
+                 base_dir=None, max_rounds=6, edge_overrun=True):
         surf = parse_surface(surface, "surface", base_dir)
         self.tool_db = parse_tools(tools, "tools")
         self.machine = machine
         self.planner = build_planner(surf, self.tool_db, machine=machine, placement=placement,
                                      zoning=zoning, spacing=spacing, h_c=h_c, delta_l=delta_l,
                                      feed_angle=feed_angle, tolerance=tolerance,
-                                     max_rounds=max_rounds)
+                                     max_rounds=max_rounds, edge_overrun=edge_overrun)
         self.delta_l = number(delta_l, "delta_l")
         self.feed_rate = number(feed_rate, "feed_rate", positive=True)
         self.allowance = number(allowance, "allowance", positive=True)

@@ -4,7 +4,8 @@ Keys (a run file's ``problem.params``): ``machine`` (``5axis`` | ``3axis``), ``p
 (3-axis: ``drop`` | ``cc``), ``zoning`` ({method, mesh, merge, settings, seed}), ``spacing``
 (``stepover`` | ``scallop``), ``h_c`` (mm), ``delta_l`` (mm, Djebali Eq. 4), ``feed_angle``
 (degrees from +X, or ``optimized``: each zone's direction optimized), ``tolerance`` (chord
-tolerance, mm). Every error is one line naming the key.
+tolerance, mm), ``edge_overrun`` (true: passes run on past the part's edges,
+``plan/overrun.py``). Every error is one line naming the key.
 """
 
 from __future__ import annotations
@@ -86,7 +87,7 @@ def parse_feed_angle(value, key: str = "feed_angle") -> float | None:
 
 def build_planner(surface, tools, *, machine="5axis", placement=None, zoning=None,
                   spacing="stepover", h_c=None, delta_l=40.0, feed_angle=0.0, tolerance=0.01,
-                  max_rounds=6) -> Planner:
+                  max_rounds=6, edge_overrun=True) -> Planner:
     """The planner of a strategy given as plain data (see the module doc)."""
     delta_l = number(delta_l, "delta_l")
     if delta_l < 0:
@@ -101,7 +102,14 @@ def build_planner(surface, tools, *, machine="5axis", placement=None, zoning=Non
     return Planner(surface, tools, machine=machine, placement=placement,
                    zoning=parse_zoning(zoning, delta_l), spacing=spacing, h_c=h_c,
                    tolerance=number(tolerance, "tolerance", positive=True),
-                   feed_angle=parse_feed_angle(feed_angle), max_rounds=int(max_rounds))
+                   feed_angle=parse_feed_angle(feed_angle), max_rounds=int(max_rounds),
+                   edge_overrun=_flag(edge_overrun, "edge_overrun"))
+
+
+def _flag(value, key: str) -> bool:
+    if not isinstance(value, bool):
+        raise ValueError(f"{key}: expected true or false, got {value!r}")
+    return value
 
 
 def absent_genes(machine: str, spacing: str, method: str) -> dict[str, str]:

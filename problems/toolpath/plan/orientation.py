@@ -41,11 +41,13 @@ def travel_tangent(normal, alpha, reverse) -> np.ndarray:
 class Machine:
     """How a machine orients and places the tool. ``genes``: the decisions it adds;
     ``overrun``: whether sections ending on the part's edge run on past it
-    (``overrun.py``; only a placement that needs no surface under the tool can)."""
+    (``overrun.py``); ``drop``: whether the tool's height comes from the drop-cutter (its
+    moves are then checked at their own XY)."""
 
     name = ""
     genes: tuple[str, ...] = ()
-    overrun = False
+    overrun = True
+    drop = False
 
     def axes(self, normal, tangent, genes: dict) -> np.ndarray:
         """Unit tool axes (N, 3) from normals, travel tangents and per-point genes (N,)."""
@@ -70,6 +72,11 @@ class FiveAxis(Machine):
     def tips(self, cutter, surface, cc, normal, axis):
         return cutter.cc_to_tip(cc, normal, axis)
 
+    def tips_shifted(self, cutter, surface, cc, normal, shift, axis):
+        """Tips of the CC points moved by ``shift`` (k, 3): the run past an edge follows the
+        travel tangent with the end point's axis (``overrun.py``)."""
+        return cutter.cc_to_tip(cc, normal, axis) + shift
+
 
 class ThreeAxis(Machine):
     name = "3axis"
@@ -80,15 +87,16 @@ class ThreeAxis(Machine):
             raise ValueError(f"placement: expected one of {', '.join(self.PLACEMENTS)}, "
                              f"got {placement!r}")
         self.placement = placement
-        self.overrun = placement == "drop"
+        self.drop = placement == "drop"
+        self.overrun = self.drop  # the tangent placement stays the analytic model's reference
 
     def axes(self, normal, tangent, genes):
         return np.broadcast_to(np.array([0.0, 0.0, 1.0]), normal.shape).copy()
 
     def tips(self, cutter, surface, cc, normal, axis):
-        return self.tips_shifted(cutter, surface, cc, normal, np.zeros_like(cc))
+        return self.tips_shifted(cutter, surface, cc, normal, np.zeros_like(cc), axis)
 
-    def tips_shifted(self, cutter, surface, cc, normal, shift):
+    def tips_shifted(self, cutter, surface, cc, normal, shift, axis=None):
         """Tips of the CC points moved by ``shift`` (k, 3) in XY: the tangent tool's XY plus
         the shift, dropped onto the part (the overrun past an edge, ``overrun.py``)."""
         tangent_tip = cutter.cc_to_tip(cc, normal, (0.0, 0.0, 1.0))

@@ -9,7 +9,8 @@ in the last 0.1 mm row against 0.25 mm inside, h_c 0.254). So every section end 
 on the footprint's boundary gets ``n`` more CL points, spread over ``length`` mm (the
 cutter's radius) beyond it along the travel direction in XY: the tool keeps its height
 from the drop-cutter (it touches the part's edge and nowhere penetrates it) until its
-centre has passed the edge.
+centre has passed the edge; a 5-axis tool runs on along the travel tangent with the end
+point's axis.
 
 The extra points hold no CC point (``on_part`` False): their CC fields repeat the end
 point's, shifted in XY; their moves count in the plan's lengths.
@@ -33,8 +34,13 @@ def edge_overrun(points: dict, sec_start, sec_count, at_head, at_tail, head_leng
     sec_start, sec_count, on_part (N',), shift (N', 3) the XY offset of each row from the
     point it repeats, (seg_sec, seg_len) of the added moves)."""
     sec_start, sec_count = np.asarray(sec_start), np.asarray(sec_count)
-    head = np.where(at_head, n, 0)
-    tail = np.where(at_tail, n, 0)
+    first, last = sec_start, sec_start + sec_count - 1
+    ahead = np.zeros(len(points["p"])) if ahead is None else np.asarray(ahead, float)
+    # how far the tool's centre still has to go past each end (0: it is already there)
+    reach_head = np.maximum(np.asarray(head_length, float) + ahead[first], 0.0)
+    reach_tail = np.maximum(np.asarray(tail_length, float) - ahead[last], 0.0)
+    head = np.where(np.asarray(at_head) & (reach_head > 1e-6), n, 0)
+    tail = np.where(np.asarray(at_tail) & (reach_tail > 1e-6), n, 0)
     count = sec_count + head + tail
     start = np.cumsum(count) - count
     owner = np.repeat(np.arange(len(count)), count)
@@ -44,19 +50,18 @@ def edge_overrun(points: dict, sec_start, sec_count, at_head, at_tail, head_leng
     src = sec_start[owner] + body
     # how many steps before the first point (< 0) or after the last one (> 0)
     steps = np.where(j < h, j - h, np.where(j >= h + c, j - h - c + 1, 0))
-    t = points["tangent"][src].copy()
-    t[:, 2] = 0.0
-    t /= np.maximum(np.linalg.norm(t, axis=1, keepdims=True), 1e-300)
-    length = np.where(steps < 0, np.asarray(head_length)[owner], np.asarray(tail_length)[owner])
-    reach = length - (0.0 if ahead is None else np.sign(steps) * ahead[src])
-    step_len = np.maximum(reach, 0.0) / n
-    shift = t * (steps * step_len)[:, None]
+    # along the travel tangent, scaled to unit length in XY: a 3-axis tool keeps only the
+    # XY part (its height comes from the drop-cutter), a 5-axis one runs on along the tangent
+    t = points["tangent"][src]
+    t_xy = np.maximum(np.linalg.norm(t[:, :2], axis=1), 1e-9)
+    step_len = np.where(steps < 0, reach_head[owner], reach_tail[owner]) / n
+    shift = t * (steps * step_len / t_xy)[:, None]
     out = {k: v[src] for k, v in points.items()}
     out["p"] = out["p"] + shift
     if "chord" in out:
         out["chord"] = np.where(steps == 0, out["chord"], 0.0)
     added = steps != 0
-    return out, start, count, ~added, shift, (owner[added], step_len[added])
+    return out, start, count, ~added, shift, (owner[added], (step_len / t_xy)[added])
 
 
 def refine_drop_moves(points: dict, cutter, surface, tolerance: float, rounds: int = 8):

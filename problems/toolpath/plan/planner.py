@@ -31,7 +31,8 @@ from ..tools import ToolDatabase
 from ..clpath import CLPath
 from .batch import PlanBatch
 from .orientation import get_machine, travel_tangent
-from .overrun import edge_overrun, refine_drop_moves
+from .overrun import edge_overrun as add_overrun
+from .overrun import refine_drop_moves
 from .planes import PassGeometry
 from .points import sample_sections
 from .sections import Sections, full_plane_sections, zone_sections
@@ -52,13 +53,16 @@ class Planner:
     (gene, % of D) | ``scallop`` (h_c, adaptive); ``h_c`` (mm): the scallop target of the
     adaptive spacing and of the zone-direction search; ``tolerance``: the chord tolerance
     (mm); ``feed_angle``: degrees from +X, or None (optimized per zone);
-    ``max_rounds``: chord refinement rounds.
+    ``max_rounds``: chord refinement rounds; ``edge_overrun``: sections that end on the
+    part's edge run on past it (``overrun.py``; False: they stop at their last CC point, as
+    the former evaluator's passes did, and leave the edge rows and wedges high).
     """
 
     def __init__(self, surface: Surface, tools: ToolDatabase, *, machine: str = "5axis",
                  placement: str | None = None, zoning=None, spacing: str = "stepover",
                  h_c: float | None = None, tolerance: float = 0.01,
-                 feed_angle: float | None = 0.0, max_rounds: int = 6):
+                 feed_angle: float | None = 0.0, max_rounds: int = 6,
+                 edge_overrun: bool = True):
         if spacing not in SPACINGS:
             raise ValueError(f"spacing: expected one of {', '.join(SPACINGS)}, got {spacing!r}")
         if spacing == "scallop" and h_c is None:
@@ -71,6 +75,7 @@ class Planner:
         self.spacing, self.h_c = spacing, (None if h_c is None else float(h_c))
         self.tolerance, self.max_rounds = float(tolerance), int(max_rounds)
         self.feed_angle = None if feed_angle is None else float(feed_angle)
+        self.edge_overrun = bool(edge_overrun) and self.machine.overrun
         self.layouts = ZoneLayouts(surface, tools, zoning, self.h_c, self.feed_angle)
         self._geoms: dict[float, PassGeometry] = {}
 
@@ -145,7 +150,7 @@ class Planner:
         def place(c, surface, cc, normal):
             return self.machine.tips(c, surface, cc, normal, None)
 
-        refine = refine_drop_moves if self.machine.overrun else None
+        refine = refine_drop_moves if self.machine.drop else None
         if refine is not None:  # the drop-cutter placement: every move at its own XY
             pts, stats = refine(pts, cutter, self.surface, self.tolerance, chord_rounds)
         else:
@@ -201,16 +206,16 @@ class Planner:
         pt = {"u": u, "v": v, "p": p, "chord": chord, "normal": normal, "tangent": tangent,
               "axis": axis}
         on_part, shift = np.ones(len(u), bool), np.zeros_like(p)
-        if self.machine.overrun:
+        if self.edge_overrun:
             lo_end, hi_end = sec["ta"] <= 1e-9, sec["tb"] >= 1 - 1e-9
             ahead = np.zeros(len(u))
             for t in np.unique(tool[ind_pt]):
                 sel = tool[ind_pt] == t
-                off = self.tools.cutter(t).cc_to_tip(p[sel], normal[sel]) - p[sel]
+                off = self.tools.cutter(t).cc_to_tip(p[sel], normal[sel], axis[sel]) - p[sel]
                 ahead[sel] = np.sum(off[:, :2] * tangent[sel, :2], axis=1) / np.maximum(
                     np.linalg.norm(tangent[sel, :2], axis=1), 1e-300)
             base = OVERRUN * self.tools.R[tool[sec["ind"]]]
-            pt, new_start, count, on_part, shift, (x_sec, x_len) = edge_overrun(
+            pt, new_start, count, on_part, shift, (x_sec, x_len) = add_overrun(
                 pt, new_start, count, np.where(reverse, hi_end, lo_end),
                 np.where(reverse, lo_end, hi_end),
                 base + np.where(reverse, sec["run_hi"], sec["run_lo"]),
@@ -227,10 +232,11 @@ class Planner:
             for t in np.unique(tool[ind_pt]):
                 sel = tool[ind_pt] == t
                 cutter = self.tools.cutter(t)
-                if self.machine.overrun:
+                if self.edge_overrun:
                     tip[sel] = self.machine.tips_shifted(cutter, self.surface,
                                                          pt["p"][sel] - shift[sel],
-                                                         pt["normal"][sel], shift[sel])
+                                                         pt["normal"][sel], shift[sel],
+                                                         pt["axis"][sel])
                 else:
                     tip[sel] = self.machine.tips(cutter, self.surface, pt["p"][sel],
                                                  pt["normal"][sel], pt["axis"][sel])

@@ -25,12 +25,13 @@ def fountas_geometry():
 
 
 def _pattern(surface, delta, step, tol=0.01):
-    """Single-zone 5-axis plans of XY step-overs delta (n,) mm and maximum steps (n,) mm."""
+    """Single-zone 5-axis plans of XY step-overs delta (n,) mm and maximum steps (n,) mm: the
+    CC patterns alone (no run past the part's edges: those points hold no CC point)."""
     delta, step = np.atleast_1d(np.asarray(delta, float)), np.atleast_1d(np.asarray(step, float))
     n = len(delta)
     genes = {"tool": np.zeros(n, int), "stepover": delta, "lead": np.zeros(n),
              "tilt": np.zeros(n), "step": step}
-    return Planner(surface, D100, tolerance=tol).plan(genes, place=False)
+    return Planner(surface, D100, tolerance=tol, edge_overrun=False).plan(genes, place=False)
 
 
 def _ends(pb):

@@ -149,8 +149,12 @@ def test_profile_model_matches_an_independent_projection_of_the_tool(tool, lead,
     right, left = _brute_profile(R, r, deg(lead), deg(tilt), xq)
     got_r = profile_height(tab, np.zeros(4, int), xq)
     got_l = profile_height(tab, np.ones(4, int), xq)
-    np.testing.assert_allclose(got_r, right, rtol=3e-3, atol=3e-5)
-    np.testing.assert_allclose(got_l, left, rtol=3e-3, atol=3e-5)
+    # within 0.02 mm of the reach the profile rises vertically (the rim): there a 1e-4 mm
+    # difference in x is a large one in z, so those queries only have to agree on "beyond"
+    for got, ref, reach in ((got_r, right, tab[2][0]), (got_l, left, tab[2][1])):
+        ok = np.abs(xq - reach) > 0.02
+        np.testing.assert_allclose(got[ok], ref[ok], rtol=3e-3, atol=3e-5)
+        assert np.array_equal(np.isinf(got), xq > reach * (1 + 1e-12))
 
 
 def test_flat_bottom_leaves_no_scallop_on_a_plane_and_gouges_a_concave_section():
