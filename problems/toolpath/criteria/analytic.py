@@ -22,8 +22,17 @@ tools):
     frame). ``r_eff`` is then the smallest over the plan's points.
 
   Heights are capped at the finishing ``allowance``; a negative height is a gouge.
+- **Pose gouge** per point (5-axis): the depth the leaned or tilted cutter, placed tangent
+  at the point, cuts below the surface's osculating quadric anywhere under its end
+  (``criteria/heel.py``). The gap model above looks only at mid-gap; a flat or toroidal
+  bottom leaned by the lead reaches up to a diameter behind the contact and beside the
+  pass, and where the surface is concave there it rises into the tool (a flat end on a
+  surface concave along the feed: max over x of kappa_f x^2 / 2 - x tan lead, the heel).
+  ``gouge`` per point is the larger of the gap's gouge and the pose gouge. 3-axis plans
+  are placed gouge-free by the drop-cutter.
 - **Machining error** per point (Fountas Fig. 1): chord error (larger of the point's two
-  moves) + scallop + gouge; max and mean over the points on the part.
+  moves) + scallop + gouge (the larger of the gap's and the pose's); max and mean over the
+  points on the part.
 - **Lengths**: cutting = sum of ``seg_len``; between consecutive sections of one plan the
   move from the last CC point of one to the first of the next is a link (same zone) or an
   inter-zone move; path = cutting + link + inter-zone; time = path / feed rate (min).
@@ -38,6 +47,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..geometry.surface import normal_curvature, unit_normal
+from .heel import pose_gouge
 from .scallop import gap_heights
 from .scallop_3axis import gap_heights_3axis
 from .table import names
@@ -89,8 +99,9 @@ def _per_tool(tools, ti, fn) -> np.ndarray:
 
 def point_heights(batch, surface, tools, genes, *, allowance, machine=None) -> dict:
     """Per point (N,): ``h`` the signed material height in the gap (mm, < 0 gouge),
-    ``kappa``, ``w``, ``normal``, and ``r_eff`` (3-axis: per point; 5-axis: per plan's
-    lead/tilt). See the module docstring for the model."""
+    ``pose_gouge`` the gouge under the cutter's end (mm, >= 0; 0 for 3-axis), ``kappa``, ``w``,
+    ``normal``, and ``r_eff`` (3-axis: per point; 5-axis: per plan's lead/tilt). See the
+    module docstring for the model."""
     n = batch.n
     ti = _tool_index(genes, tools, n)
     sec = batch.pt_sec
@@ -112,14 +123,16 @@ def point_heights(batch, surface, tools, genes, *, allowance, machine=None) -> d
                         allowance)
         r_eff = _per_tool(tools, ti, lambda c, rows: c.effective_radius_lead_tilt(
             lead[rows], tilt[rows]))[ind]
+        pose = pose_gouge(tools.cutters, ti[ind], batch.p, nrm, batch.tangent, batch.axis, jet)
     else:
         tan, pt_tool = batch.tangent, ti[ind]
         r_eff = _per_tool(tools, pt_tool, lambda c, rows: c.effective_radius(
             tan[rows, 2], nrm[rows, 2]))
         h = _per_tool(tools, pt_tool, lambda c, rows: gap_heights_3axis(
             c, w[rows], tan[rows], nrm[rows], kappa[rows], allowance))
+        pose = np.zeros(len(h))
     h = np.where(side != 0, h, 0.0)
-    return dict(h=h, kappa=kappa, w=w, normal=nrm, r_eff=r_eff)
+    return dict(h=h, pose_gouge=pose, kappa=kappa, w=w, normal=nrm, r_eff=r_eff)
 
 
 def _group_max(x, owner, n) -> np.ndarray:
@@ -188,7 +201,7 @@ def analytic_criteria(batch, surface, tools, genes: dict, *, allowance: float,
     on = np.asarray(batch.on_part, bool)
     ind = batch.pt_ind[on]
     h = pt["h"][on]
-    scallop, gouge = np.maximum(h, 0.0), np.maximum(-h, 0.0)
+    scallop, gouge = np.maximum(h, 0.0), np.maximum(np.maximum(-h, 0.0), pt["pose_gouge"][on])
     err = batch.chord[on] + scallop + gouge
     seg_ind = batch.sec_ind[batch.seg_sec]
     crit = _plan_counts(batch)

@@ -121,9 +121,10 @@ def test_single_zone_gives_todays_toolpath_numbers_on_the_table2_sets(fountas_pr
     assert c["cutting_length"] == pytest.approx(1650.9494277547933, rel=1e-12)
     assert c["path_length"] == pytest.approx(1766.3375151459838, rel=1e-12)
     # the GA set: the former evaluator's figures, recorded before it retired
+    # (gouge_max 0.0212 and machining_error 0.0524 then: the gap's gouge alone; the leaned
+    # torus's pose gouge, criteria/heel.py, raises both)
     old = {"cc_count": 361.0, "n_passes": 22.0, "chord_error_mean": 0.005873380077200637,
-           "scallop_max": 0.04821426078179325, "gouge_max": 0.0211746611095014,
-           "machining_error": 0.05240011002354287, "cutting_length": 2134.6433271585333,
+           "scallop_max": 0.04821426078179325, "cutting_length": 2134.6433271585333,
            "link_length": 115.55070215359292, "machining_time": 2.250194029312126}
     new = former.evaluate_params(dict(tool=6, stepover=30.791, lead=3.379, tilt=0.040,
                                       step=8.451))
