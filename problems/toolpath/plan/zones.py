@@ -12,9 +12,8 @@ evaluations mostly hit this memo):
    cutting length at h_c minimized over the direction, ``zoning/direction.py``) started
    from the zone's steepest-slope direction, rounded to the ``ALPHA_STEP_DEG`` grid;
 3. per zone, the adaptive planes at h_c (``zoning/passes.py``: each plane as far from the
-   previous one as the worst point of its pass allows), the zone's extent across its feed,
-   and its distance field: the XY distance (mm) from every mesh cell to the zone, which
-   lets a plan grow the zone's sections into its neighbours (``sections.py``).
+   previous one as the worst point of its pass allows) and the zone's extent across its
+   feed (``sections.py`` cuts the planes into sections from the labels).
 """
 
 from __future__ import annotations
@@ -22,7 +21,6 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy import ndimage
 
 from .zoning.direction import axial_mean, optimize_direction
 from .zoning.features import check_mesh, mesh_features
@@ -63,16 +61,14 @@ class ZoningSpec:
 class ZoneLayout:
     """The zones of one (gene value, tool): ``labels`` (n, m) on the mesh, per zone the feed
     direction ``alpha`` (radians), the adaptive planes ``planes`` at h_c (offsets along the
-    zone's cross-feed c, mm), its extent ``extent`` (lo, hi) along c, and ``distance`` the
-    XY distance of every mesh cell to the zone (mm, 0 inside); ``info`` the merging facts."""
+    zone's cross-feed c, mm) and its extent ``extent`` (lo, hi) along c; ``info`` the
+    merging facts."""
 
     labels: np.ndarray
     alpha: list[float]
     planes: list[np.ndarray]
     extent: list[tuple[float, float]]
-    distance: list[np.ndarray]
     info: dict
-    cell_size: tuple[float, float] = (1.0, 1.0)
 
     @property
     def count(self) -> int:
@@ -164,8 +160,7 @@ class ZoneLayouts:
         labels, info = self._labels(value, target)
         cell_of = self.samples.cell(*self.mesh)
         zone_of = labels.ravel()[cell_of]
-        sampling = self.cell_size
-        alpha, planes, extent, distance = [], [], [], []
+        alpha, planes, extent = [], [], []
         for z in range(int(labels.max()) + 1):
             mask = labels == z
             sub = self.samples.take(zone_of == z)
@@ -174,15 +169,4 @@ class ZoneLayouts:
             alpha.append(a)
             planes.append(np.asarray(passes.s, float))
             extent.append((float(off.min()), float(off.max())))
-            distance.append(ndimage.distance_transform_edt(~mask, sampling=sampling))
-        return ZoneLayout(labels, alpha, planes, extent, distance, info, sampling)
-
-    @property
-    def cell_size(self) -> tuple[float, float]:
-        """Mean XY size (mm) of a mesh cell along u and along v (the distance fields' unit)."""
-        n, m = self.mesh
-        t = (np.arange(33) + 0.5) / 33
-        uu, vv = np.meshgrid(t, t, indexing="ij")
-        jet = self.surface.jet(uu.ravel(), vv.ravel(), order=1)
-        return (float(np.linalg.norm(jet.su[:, :2], axis=1).mean()) / n,
-                float(np.linalg.norm(jet.sv[:, :2], axis=1).mean()) / m)
+        return ZoneLayout(labels, alpha, planes, extent, info)
