@@ -50,8 +50,9 @@ _TABLE = (
     Criterion("scallop_max", "mm", True, "largest material height left mid-way between passes",
               simulated=True),
     Criterion("scallop_mean", "mm", True, "mean scallop over the CC points", simulated=True),
-    Criterion("gouge_max", "mm", True, "deepest cut below the surface between passes",
-              simulated=True),
+    Criterion("gouge_max", "mm", True,
+              "deepest cut below the surface: between passes, and (5-axis) anywhere under "
+              "the leaned cutter's end at a CC point", simulated=True),
     Criterion("undercut_max", "mm", True,
               "sharp-rim (flat-end) tools: the scallop of the rim and the inclined bottom; "
               "0 for the others", simulated=True),
