@@ -20,7 +20,6 @@ spacing) the chromosome is Fountas' five genes, X (n, 5). Fountas prints the ste
 
 from __future__ import annotations
 
-from functools import cached_property
 
 import numpy as np
 from pymoo.core.problem import Problem
@@ -156,17 +155,6 @@ class ToolpathProblem(Problem):
         """The tolerance band of a simulated cut's deviation map: h_c with a scallop target,
         else the cut tolerance (mm)."""
         return self.planner.h_c if self.planner.spacing == "scallop" else self.tolerance
-
-    @cached_property
-    def simulator(self):
-        """The former analytic evaluator of the 5-axis single-zone case (kept for its own
-        tests until it retires)."""
-        from .simulator import ToolpathSimulator
-
-        angle = self.planner.feed_angle
-        return ToolpathSimulator(self.surface, self.tool_db, feed_angle=angle or 0.0,
-                                 tolerance=self.tolerance, feed_rate=self.feed_rate,
-                                 allowance=self.allowance, max_rounds=self.planner.max_rounds)
 
     # -- rows -----------------------------------------------------------------------------
     def check(self, X) -> np.ndarray:

@@ -29,7 +29,7 @@ from evoplan.problems.toolpath.plan.planner import Planner
 from evoplan.problems.toolpath.plan.zones import ZoningSpec
 from evoplan.problems.toolpath.plan.zoning.merge import MergeSettings
 from evoplan.problems.toolpath.plan.zoning.passes import zone_passes
-from evoplan.problems.toolpath.plan.zoning.problem import CHOI_TOOLS
+from evoplan.problems.toolpath.zoned import CHOI_TOOLS
 from evoplan.problems.toolpath.plan.zoning.stepover import ScallopTarget, plane_spacing
 from evoplan.problems.toolpath.simulation import (
     cell_labels,
