@@ -28,8 +28,9 @@ tools):
   bottom leaned by the lead reaches up to a diameter behind the contact and beside the
   pass, and where the surface is concave there it rises into the tool (a flat end on a
   surface concave along the feed: max over x of kappa_f x^2 / 2 - x tan lead, the heel).
-  ``gouge`` per point is the larger of the gap's gouge and the pose gouge. 3-axis plans
-  are placed gouge-free by the drop-cutter.
+  ``gouge`` per point is the larger of the gap's gouge and the pose gouge. Not added for
+  3-axis plans: the drop-cutter placement is gouge-free, and the tangent ``cc`` placement
+  keeps the circle model's gouge above.
 - **Machining error** per point (Fountas Fig. 1): chord error (larger of the point's two
   moves) + scallop + gouge (the larger of the gap's and the pose's); max and mean over the
   points on the part.
