@@ -204,11 +204,13 @@ def analytic_criteria(batch, surface, tools, genes: dict, *, allowance: float,
     h = pt["h"][on]
     scallop, gouge = np.maximum(h, 0.0), np.maximum(np.maximum(-h, 0.0), pt["pose_gouge"][on])
     err = batch.chord[on] + scallop + gouge
-    seg_ind = batch.sec_ind[batch.seg_sec]
+    chords = (np.ones(len(batch.seg_err), bool) if batch.seg_cc is None
+              else np.asarray(batch.seg_cc, bool))  # the moves past an edge are no chords
+    seg_ind = batch.sec_ind[batch.seg_sec][chords]
     crit = _plan_counts(batch)
     crit |= {
-        "chord_error_mean": _group_mean(batch.seg_err, seg_ind, n),
-        "chord_error_max": _group_max(batch.seg_err, seg_ind, n),
+        "chord_error_mean": _group_mean(batch.seg_err[chords], seg_ind, n),
+        "chord_error_max": _group_max(batch.seg_err[chords], seg_ind, n),
         "r_eff": _group_min(pt["r_eff"][on], ind, n),
         "scallop_max": _group_max(scallop, ind, n),
         "scallop_mean": _group_mean(scallop, ind, n),

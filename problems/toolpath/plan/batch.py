@@ -25,7 +25,9 @@ point, pass or zone:
   its ``p``/``normal`` are those of the nearest CC point on the part).
 - **Moves** (N - S): the feed moves between consecutive points of a section: ``seg_sec``,
   ``seg_err`` the chord error (the largest distance of the surface curve from the chord,
-  mm), ``seg_len`` the chord length between the CC points (mm).
+  mm), ``seg_len`` the chord length between the CC points (mm), ``seg_cc`` True for a
+  chord between two CC points (False for a move past the part's edge, which has no chord
+  error to speak of; None: every move is a chord).
 - **Per individual** (n): ``zones`` the number of zones of its plan.
 
 A plan's claimed lengths are computed from these points (``seg_len``): what is claimed is
@@ -72,6 +74,7 @@ class PlanBatch:
     seg_sec: np.ndarray
     seg_err: np.ndarray
     seg_len: np.ndarray
+    seg_cc: np.ndarray | None = None
     info: dict = field(default_factory=dict)
 
     @property
