@@ -58,9 +58,9 @@ READING = """## Reading
   inside the part's edge, which tells zone borders and the inside from the edge row.
 - Target: NOT met. No plan that really keeps the scallop under h_c comes near Djebali's
   1183 mm. The shortest zoned toroidal plan that meets h_c (the line under the main table)
-  is about 5 % shorter than the single-zone ball and 10 % shorter than the single-zone torus
+  is about 7 % shorter than the single-zone ball and 12 % shorter than the single-zone torus
   of this engine. Counted as the papers count (on the part, plus Eq. 4's 40 mm a zone),
-  it is at Herraz's 1437 mm.
+  it is 1395 mm, just under Herraz's 1437 mm.
 - Failures inside the part (see *max > 1 mm in*): K-means K=5 (torus r 1) leaves 0.35 mm
   on the zone border at y = 38 mm, x = 3-9 mm; AMAS k_LZ=0.15 (r 1) and k_LZ=0.05
   (r 1.27) leave 0.28-0.29 mm on or next to a zone border. The single-zone tori, AMAS
@@ -70,8 +70,8 @@ READING = """## Reading
 - Where the length goes (second table): the worst-point rule of parallel planes (each plane
   as far from the previous one as its pass's WORST point allows) costs 25-28 % over the
   local-spacing floor, in every zone alike. Cutting each plane wherever its band (the strip
-  to its two neighbours) holds zone material adds 2-14 % over the binned plan. The edge
-  runs add 115-240 mm and Eq. 4 adds 40 mm a zone. With three zones the floor alone is
+  to its two neighbours) holds zone material adds 1-9 % over the binned plan. The edge
+  runs add 120-255 mm and Eq. 4 adds 40 mm a zone. With three zones the floor alone is
   1007-1028 + 80 mm, already close to 1183 mm. So a zoned parallel-plane plan that really
   meets h_c cannot reach 1183 mm on this surface: the gap is in the pass rule (one spacing
   along a whole pass), not in the zones. The direction search minimizes the binned length,
