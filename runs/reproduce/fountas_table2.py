@@ -106,38 +106,32 @@ WHY = """\
 
 READING = """## Reading (the committed 0.1 mm run above)
 
-- **The one engine gives the former numbers.** Every figure of the first table is the one
-  this file held before the redesign (same CC counts, chord errors, scallops, gouges,
-  lengths and Eq. 9 values 0.0641 and 0.0995), and the former evaluator, run beside the
-  engine on the same rows, agrees on all 15 criteria it computes to 4e-16 (relative).
+- **The one engine gives the former numbers.** With `edge_overrun: false` (passes that stop
+  at their last CC point, as the former evaluator's did) every criterion of the first table
+  but the gouge is the one this file held before the redesign (same CC counts, chord
+  errors, scallops, lengths; the tests hold the former figures to 1e-9). The default runs
+  the passes on past the part's edges: the same criteria, 88-114 mm more cutting.
+- **The gouge is the new pose gouge.** The analytic gouge now also checks the tool placed at
+  every CC point under its whole end (`criteria/heel.py`): 0.039 / 0.058 mm for the GA / VEGA
+  sets against 0.051 / 0.069 simulated (the former gap model said 0.021 / 0.042).
 - **What the simulation adds to Table 2.** The published sets leave, on the 0.1 mm grid, a
-  scallop p99 of 0.026 mm (GA) and 0.044 mm (VEGA) and nothing uncut; their maxima (0.093,
-  0.346 mm) sit at pass ends and the outermost passes, which the analytic model does not
-  look at. The gouge is 0.051 / 0.069 mm, above the analytic 0.021 / 0.042: the straight moves
-  between CL points on convex stretches, as `runs/reproduce/simulated_vs_analytic.md` found.
-- **What zoning changes: the direction, not the zones.** VEGA over the six decisions chose ONE
-  zone (K = 1), the flat D16 (tool 3), a step-over of 43.7 %, lead 4.4 deg, fed along its
-  optimized direction (168 deg, i.e. 12 deg off X): Eq. 4 total 1434 mm against 1651 mm for
-  the VEGA set fed along X (-13 %), 245 CC points against 289. The VEGA set alone, fed along
-  its optimized direction (172 deg), already gains 1651 -> 1502 mm. Forcing more zones on the
-  best decisions costs: K = 2 (2 zones, 23.5 and 105 deg) 1734 mm and 634 CC points, K = 4
-  (3 zones after merging) 1936 mm and 631 points, because each zone's sections are shorter
-  and more numerous on this single smooth surface. Under the zoned run's Eq. 9 the ranking is
-  best 0.0249 < VEGA set, optimized direction 0.0523 < VEGA set 0.1220 < GA set 0.1369 < K = 2
-  0.1579 < K = 4 0.1844.
-- **But the simulation says these plans are not yet acceptable.** (1) The oblique plans leave
-  material uncut (0.28 % and 0.20 % of the area, the 0.5 mm stock) in the corners where their
-  passes meet the footprint's edges obliquely (see the map): in 5-axis the planner does not run
-  a section on past the part's edge, as it does in 3-axis (`docs/engine.md`, Edges).
-  (2) The leaned flat end gouges: 0.222 mm for the best plan, 0.974 mm with K = 2 and 1.033 mm
-  with K = 4, where the analytic model says 0.053, 0.023 and 0.053 mm (the best plan's lie
-  along its passes over the lower half of the map). The deepest lie along the passes fed at
-  90-105 deg, i.e. along Y, the direction in which the part is concave (across the feed when
-  it is fed along X). This is consistent with the heel of a flat bottom leaned 4.4 deg
-  reaching below a surface concave along the feed, which the analytic gouge (measured across
-  the feed, between passes) does not model; it was not isolated further. Until the planner cuts
-  5-axis edges and the analytic gouge sees the curvature along the feed, the zoned 5-axis
-  run's best plan should be checked with `criteria: simulated` (or `evoplan simulate`).
+  scallop p99 of 0.026 mm (GA) and 0.043 mm (VEGA) and nothing uncut. Their simulated maxima
+  are 0.041 and 0.102 mm; without the run-on past the edges the VEGA set kept 0.346 mm at its
+  pass ends (third column), which the analytic model does not look at.
+- **What zoning changes on this part: little.** With the machining error normalized over
+  [0, 0.1] mm, VEGA over the six decisions chose ONE zone of the torus D16 r3, a step-over
+  of 23.5 %, lead 3.9 deg, fed along its optimized direction (172 deg): analytic machining
+  error 0.024 mm, simulated p99 0.019 mm, max 0.137 mm, gouge 0.029 mm, nothing uncut, for
+  2839 mm of cutting. Forcing K = 2 or 4 on the same decisions gives 2 and 3 zones fed at
+  29/101.5 and 62.5/172/90 deg, 3240-3475 mm, and gouges of 0.26 mm (analytic 0.23-0.24):
+  on this single smooth surface more zones mean shorter, more numerous sections, and zones
+  fed across the concave direction gouge with a leaned torus.
+- **An oblique 5-axis plan leaves corner wedges.** The VEGA set fed along its optimized
+  direction (172 deg, fourth column) leaves 0.12 % of the area uncut in the corners where its
+  passes meet the part's edges obliquely: in 5-axis the passes run on only until the tool's
+  centre reaches the end CC point (running on along the tangent past an oblique edge swept
+  the part's corner, a 0.31 mm gouge), so the wedge between two passes ending at different
+  places along such an edge is not cut. A plan fed along an edge (feed along X here) has none.
 """
 
 
@@ -291,12 +285,14 @@ def main() -> None:
         f"run by VEGA (seed from the file, {evaluations} distinct evaluations, {seconds:.0f} s): "
         f"best {fmt_params(best)}, objective {best_f:.4f}."), "",
         ("The first two columns are the published sets as above (one zone fed along X); the "
-        "third is the VEGA set as one zone fed along its optimized direction, planned by the "
-        "zoned configuration; then the zoned run's best plan, and the same decisions with the "
-        "K-means K forced to other values (zones after merging in the zones row). The "
-        "objective row is the zoned configuration's Eq. 9 for all (machining error 0.4, CC count 0.3, Eq. 4 "
-        "total 0.3, bounds from its own design), so it compares them; the Eq. 9 of Table 2's "
-        "configuration is in the first table."), "",
+        "third is the VEGA set with `edge_overrun: false` (its passes stop at their last CC "
+        "point, as the former evaluator's did); the fourth is the VEGA set as one zone fed "
+        "along its optimized direction, planned by the zoned configuration; then the zoned "
+        "run's best plan, and the same decisions with the K-means K forced to other values "
+        "(zones after merging in the zones row). The objective row is the zoned "
+        "configuration's Eq. 9 for all (machining error 0.4 over [0, 0.1] mm, CC count 0.3 "
+        "and Eq. 4 total 0.3 over its own design), so it compares them; the Eq. 9 of Table "
+        "2's configuration is in the first table."), "",
         (f"Simulated: every feed move of the CL path swept over a {grid_mm:g} mm grid of the "
         f"part ({grid.shape[1]} x {grid.shape[0]} cells), rays along the normal, allowance "
         f"{ALLOWANCE} mm ({t_sim:.0f} s for the {len(plans)} plans)."), "",
