@@ -1,19 +1,21 @@
 """Edge overrun: a section that ends on the footprint's edge runs on past it.
 
-A 3-axis pass that stops with its last CC point on the part's edge leaves the edge row
-between two passes higher than the scallop inside: the tool's swept profile across the
-feed only forms the designed cusp where both neighbouring passes sweep the tool over the
-point, and at a section's end the tool stops with its centre short of the edge wherever
-the surface rises towards it (measured on Choi's surface by the cut simulation: 0.41 mm
-in the last 0.1 mm row against 0.25 mm inside, h_c 0.254). So every section end that lies
-on the footprint's boundary gets ``n`` more CL points, spread over ``length`` mm (the
-cutter's radius) beyond it along the travel direction in XY: the tool keeps its height
-from the drop-cutter (it touches the part's edge and nowhere penetrates it) until its
-centre has passed the edge; a 5-axis tool runs on along the travel tangent with the end
-point's axis.
+A pass that stops with its last CC point on the part's edge leaves the edge row between two
+passes higher than the scallop inside: the tool's swept profile across the feed only forms
+the designed cusp where both neighbouring passes sweep the tool over the point, and at a
+section's end the tool stops with its centre short of the end CC point wherever the surface
+rises towards the edge (measured by the cut simulation: 0.41 mm in the last 0.1 mm row of
+Choi's surface against 0.25 mm inside, h_c 0.254; 0.35 mm at the pass ends of Fountas' VEGA
+set against 0.10 mm with the run-on). So every section end on the footprint's boundary gets
+``n`` more CL points along the travel, until the tool's centre reaches the end CC point;
+``planner.py`` adds, for a 3-axis drop-cutter plan, how far the plane's band extends past
+the plane along an oblique edge (the wedge between two passes that meet the edge at
+different places). A 3-axis tool keeps its height from the drop-cutter (it touches the
+part's edge and nowhere penetrates it); a 5-axis tool runs on along the travel tangent with
+the end point's axis.
 
 The extra points hold no CC point (``on_part`` False): their CC fields repeat the end
-point's, shifted in XY; their moves count in the plan's lengths.
+point's, shifted along the travel tangent; their moves count in the plan's lengths.
 """
 
 from __future__ import annotations
@@ -28,10 +30,10 @@ def edge_overrun(points: dict, sec_start, sec_count, at_head, at_tail, head_leng
     """Insert the overrun points. ``points``: per-point arrays in machining order (must hold
     ``p`` and ``tangent``); ``at_head`` / ``at_tail`` (S,): the section's first / last point
     lies on the footprint's edge; ``head_length`` / ``tail_length`` (S,) mm: how far past
-    the first / last CC point the tool's centre goes; ``ahead`` (N,): how far along the travel the tool's centre already
-    is from each CC point (a vertical cutter tangent on a slope sits downhill of its
-    contact), so only the rest is added. Returns (points with the new rows,
-    sec_start, sec_count, on_part (N',), shift (N', 3) the XY offset of each row from the
+    the first / last CC point the tool's centre goes; ``ahead`` (N,): how far along the
+    travel the tool's centre already is from each CC point (a vertical cutter tangent on a
+    slope sits downhill of its contact), so only the rest is added. Returns (points with the new rows,
+    sec_start, sec_count, on_part (N',), shift (N', 3) the offset of each row from the
     point it repeats, (seg_sec, seg_len) of the added moves)."""
     sec_start, sec_count = np.asarray(sec_start), np.asarray(sec_count)
     first, last = sec_start, sec_start + sec_count - 1
