@@ -10,13 +10,15 @@ One pipeline for every configuration (the folders' order):
    (zoning, tool).
 3. **Passes** (``sections.py``): vertical planes parallel to the zone's feed, spaced by a
    fixed step-over (% of D, measured in XY) or by the scallop target h_c, adaptively per
-   pass (``zoning/passes.py``); each plane is cut into the sections where it crosses the
-   zone, grown by the overlap that makes neighbouring zones' passes meet.
+   pass (``zoning/passes.py``); each plane is cut into the sections where its band (the
+   strip to its neighbouring planes) holds zone material, so neighbouring zones' passes
+   meet across their border.
 4. **CC points** (``points.py``): the maximum step, then the chord tolerance.
 5. **Orientation and placement** (``orientation.py``): 3-axis (drop-cutter) or 5-axis
    (lead/tilt).
 6. **Order**: zones in plan order, passes in zig-zag inside a zone, sections along their
-   travel: a ``PlanBatch`` in machining order.
+   travel: a ``PlanBatch`` in machining order; sections that end on the part's edge run
+   on past it (``overrun.py``).
 
 Everything is batched: the individuals that share a zone geometry (the same direction) are
 planned together with no Python loop per individual, pass or point.
