@@ -130,8 +130,7 @@ def summary(cfg: ZoneBase, planner, genes, batch, seconds: float) -> dict[str, A
     import numpy as np
 
     layouts = planner.layouts
-    gene = layouts.gene
-    layout = layouts.get(genes[gene][0] if gene else None, 0)
+    layout = planner.layout(genes)  # memoized: the plan's own
     zone_of_seg = batch.sec_zone[batch.seg_sec]
     area = layouts.features.area
     zones = []
@@ -184,8 +183,7 @@ def main(args: argparse.Namespace) -> int:
     try:
         surface, planner, genes, batch, seconds = build_plan(cfg, Path(args.config).resolve().parent)
         facts = summary(cfg, planner, genes, batch, seconds)
-        labels = planner.layouts.get(genes[planner.layouts.gene][0]
-                                     if planner.layouts.gene else None, 0).labels
+        labels = planner.layout(genes).labels
         files = {"summary.json": json.dumps(facts, indent=2).encode(),
                  "zones.csv": zones_csv(planner.layouts.features, labels),
                  "zone_map.png": zone_map_png(surface, batch, labels,

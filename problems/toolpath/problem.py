@@ -217,11 +217,8 @@ class ToolpathProblem(Problem):
     def labels(self, genes: dict):
         """The zone labels on the parametric mesh of the first plan of ``genes`` (None for
         a single zone fed along a given direction)."""
-        layouts = self.planner.layouts
-        if layouts.gene is None and layouts.single:
-            return None
-        value = genes[layouts.gene][0] if layouts.gene else 0.0
-        return layouts.get(value, int(genes["tool"][0])).labels
+        layout = self.planner.layout(genes)
+        return None if layout is None else layout.labels
 
     def cl_path(self, params):
         """(CLPath, mesh labels or None): the toolpath of one decision set (by name, the tool

@@ -14,7 +14,7 @@ from pydantic import ValidationError
 
 from .checks import number
 from .plan.planner import Planner
-from .plan.zones import ZoningSpec
+from .plan.zones import DEFAULT_H_C, ZoningSpec
 from .plan.zoning.features import check_mesh
 from .plan.zoning.merge import MergeSettings
 from .plan.zoning.methods import get_method
@@ -23,7 +23,6 @@ from .plan.zoning.methods.registry import REGISTRY
 
 __all__ = ["DEFAULT_H_C", "ZONING_KEYS", "parse_zoning", "build_planner", "absent_genes"]
 
-DEFAULT_H_C = 0.254  # mm: Choi's and Djebali's scallop limit (0.01 in)
 ZONING_KEYS = ("method", "mesh", "merge", "settings", "seed")
 
 

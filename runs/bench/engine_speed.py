@@ -30,17 +30,23 @@ from evoplan.problems.toolpath.geometry.spec import parse_surface  # noqa: E402
 from evoplan.problems.toolpath.plan.planner import Planner  # noqa: E402
 from evoplan.problems.toolpath.plan.zones import ZoningSpec  # noqa: E402
 from evoplan.problems.toolpath.tools import parse_tools  # noqa: E402
-
-CHOI_TOOLS = [{"id": 1, "type": "ball", "diameter": 6.35},
-              {"id": 2, "type": "toroidal", "diameter": 6.35, "corner_radius": 1.0},
-              {"id": 3, "type": "toroidal", "diameter": 6.35, "corner_radius": 1.27},
-              {"id": 4, "type": "flat", "diameter": 6.35}]
-
+from evoplan.problems.toolpath.zoned import CHOI_TOOLS  # noqa: E402
 
 def evaluate(planner, surface, tools, genes, machine):
     batch = planner.plan(genes, place=False)
     return analytic_criteria(batch, surface, tools, genes, allowance=0.5, feed_rate=1000.0,
                              delta_l=40.0, machine=machine)
+
+
+def cpu_times(planner, surface, tools, draw, machine, repeats) -> list[float]:
+    """CPU seconds of ``repeats`` evaluations of fresh batches ``draw()``."""
+    times = []
+    for _ in range(repeats):
+        genes = draw()
+        t = time.process_time()
+        evaluate(planner, surface, tools, genes, machine)
+        times.append(time.process_time() - t)
+    return times
 
 
 def unzoned(args, rng):
@@ -54,12 +60,7 @@ def unzoned(args, rng):
                     step=rng.uniform(5, 10, n))
 
     evaluate(planner, surface, tools, draw(), "5axis")  # warm-up
-    times = []
-    for _ in range(args.repeats):
-        genes = draw()
-        t = time.process_time()
-        evaluate(planner, surface, tools, genes, "5axis")
-        times.append(time.process_time() - t)
+    times = cpu_times(planner, surface, tools, draw, "5axis", args.repeats)
     t = np.median(times)
     print(f"unzoned (Fountas, 5-axis): batch {n} x {args.repeats}: median {t * 1e3:.1f} ms CPU "
           f"per batch = {n / t:.0f} evaluations/s (best {n / min(times):.0f})")
@@ -83,13 +84,7 @@ def zoned(args, rng):
     fill = time.process_time() - t
     print(f"zoned (Choi, 3-axis, K-means 1..6 x 4 tools): 24 layouts in {fill:.1f} s CPU "
           f"({fill / 24 * 1e3:.0f} ms per layout: zoning, merging, per-zone directions)")
-    times = []
-    for _ in range(args.repeats):
-        genes = draw()
-        t = time.process_time()
-        evaluate(planner, surface, tools, genes, "3axis")
-        times.append(time.process_time() - t)
-    t = np.median(times)
+    t = np.median(cpu_times(planner, surface, tools, draw, "3axis", args.repeats))
     print(f"zoned, memoized: population {n} x {args.repeats}: median {t * 1e3:.0f} ms CPU = "
           f"{t / n * 1e3:.1f} ms per evaluation")
     if args.profile:

@@ -30,7 +30,7 @@ import time  # noqa: E402
 import numpy as np  # noqa: E402
 
 from evoplan.problems.toolpath.problem import ToolpathProblem  # noqa: E402
-from evoplan.problems.toolpath.simulation import design_grid, sweep  # noqa: E402
+from evoplan.problems.toolpath.simulation import design_grid  # noqa: E402
 from evoplan.problems.toolpath.simulation import sweep_path as _sweep_path  # noqa: E402
 
 VEGA = dict(tool=6, stepover=41.729, lead=2.957, tilt=0.027, step=6.338)
@@ -67,10 +67,10 @@ def main() -> None:
               f"{gc + sc:.2f} |", flush=True)
     grid = design_grid(pr.surface, 0.1)
     if args.method == "moves":
-        sweep_path(path, grid)
+        work = sweep_path(path, grid).work
         cells = int(grid.inside.sum())
-        print(f"\nwork per cell (0.1 mm grid): " + ", ".join(
-            f"{k} {v / cells:.2f}" for k, v in sweep.last_stats.items()))
+        print("\nwork per cell (0.1 mm grid): " + ", ".join(
+            f"{k} {v / cells:.2f}" for k, v in work.items()))
     print("\n| step-over (%) | CL points | feed length (mm) | sweep CPU (s), 0.1 mm grid |")
     print("|---|---|---|---|")
     for so in (20.0, 30.0, 45.0):

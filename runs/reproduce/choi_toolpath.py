@@ -1,7 +1,7 @@
 """Choi's surface through the one toolpath engine, every plan checked by the cut simulation.
 
     python runs/reproduce/choi_toolpath.py [--grid 0.2] [--quick] [--analysis]
-        [--only kmeans,amas] [--tools 1,2] [--k-lz 0.05,0.15,0.3] [--out FILE.md]
+        [--only kmeans,amas] [--tools 1,2] [--k-lz 0.05,0.15,0.3] [--out PATH]
 
 Choi's surface (Djebali Table 3), tools of R 3.175 mm (ball, torus r 1 and r 1.27, flat),
 3-axis drop-cutter placement, passes spaced adaptively at h_c = 0.254 mm, each zone's feed

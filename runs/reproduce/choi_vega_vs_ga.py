@@ -132,7 +132,7 @@ def main() -> None:
     ap.add_argument("--out", default="results/reproduce/choi_vega_vs_ga", help="study folder")
     ap.add_argument("--backend", default="processes")
     ap.add_argument("--workers", type=int, default=2)
-    ap.add_argument("--md", default=None, help="report (default: runs/reproduce/choi_vega_vs_ga.md, "
+    ap.add_argument("--md", dest="report", default=None, help="report (default: runs/reproduce/choi_vega_vs_ga.md, "
                     "with --quick the study folder); the PNGs are written beside it")
     args = ap.parse_args()
     t_start = time.perf_counter()
@@ -144,7 +144,7 @@ def main() -> None:
     grid_mm = 0.25 if args.quick else args.grid
     budget = int(study.budget.evaluations)
     out = Path(args.out + ("_quick" if args.quick else ""))
-    md = Path(args.md) if args.md else (out / "choi_vega_vs_ga.md" if args.quick else HERE / "choi_vega_vs_ga.md")
+    md = Path(args.report) if args.report else (out / "choi_vega_vs_ga.md" if args.quick else HERE / "choi_vega_vs_ga.md")
     md.parent.mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
     run_study(study, str(STUDY), out, backend=args.backend, workers=args.workers, progress=False)

@@ -22,6 +22,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .zoning.chord import split_moves
+
 __all__ = ["edge_overrun"]
 
 
@@ -97,16 +99,8 @@ def refine_drop_moves(points: dict, cutter, surface, tolerance: float, rounds: i
             break
         done += 1
         left = i[bad]
-        new_tip = np.column_stack([xy[1][bad], z[1][bad]])
-        for key, arr in pts.items():
-            value = new_tip if key == "tip" else arr[left]
-            if key == "inserted":  # the rows this refinement adds (not placed at a CC point)
-                value = np.ones(len(left), bool)
-            pts[key] = np.insert(arr, left + 1, value, axis=0)
-        dev = np.insert(dev, left + 1, 0.0)
-        at = left + 1 + np.arange(len(left))  # the new rows: check both halves next round
-        pending = np.zeros(len(pts["tip"]) - 1, bool)
-        pending[at - 1] = pending[at] = True
+        new = {"tip": np.column_stack([xy[1][bad], z[1][bad]])}
+        pts, dev, pending = split_moves(pts, dev, left, new)
         added += len(left)
     return pts, {"chord_added": added, "chord_rounds": done,
                  "chord_deviation": float(dev.max(initial=0.0)),

@@ -99,8 +99,6 @@ class PassGeometry:
                 break  # converged (quadratically, from a close seed: ~5 steps for the table)
         if not with_points:
             return u, v
-        if iters == 0:
-            return u, v, self.surface.jet(u, v, order=0).p
         return u, v, j.p + j.su * du[:, None] + j.sv * dv[:, None]
 
     def _index(self, d):
@@ -143,4 +141,4 @@ class PassGeometry:
         """
         u, v = self.seed(d, tau)
         lo, hi = self.pass_extent(d)
-        return self._newton(d, lo + tau * (hi - lo), u, v, iters, with_points=True)
+        return self._newton(d, lo + tau * (hi - lo), u, v, max(iters, 1), with_points=True)

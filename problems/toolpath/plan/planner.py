@@ -44,7 +44,6 @@ from .zoning.chord import refine_chords
 __all__ = ["Planner", "SPACINGS"]
 
 SPACINGS = ("stepover", "scallop")
-OVERRUN = 0.0
 
 
 class Planner:
@@ -91,6 +90,22 @@ class Planner:
             names.append(self.layouts.gene)
         return tuple(names)
 
+    @property
+    def zoned(self) -> bool:
+        """Whether plans go through zone layouts (False: one zone fed along the configured
+        direction at a fixed step-over, every plane across the whole footprint)."""
+        return not (self.layouts.gene is None and self.layouts.single
+                    and self.spacing == "stepover")
+
+    def layout(self, genes: dict):
+        """The zone layout (``zones.ZoneLayout``) of the first decision set of ``genes``, or
+        None when plans need none (:attr:`zoned`)."""
+        if not self.zoned:
+            return None
+        gene = self.layouts.gene
+        value = np.atleast_1d(genes[gene])[0] if gene else None
+        return self.layouts.get(value, int(np.atleast_1d(genes["tool"])[0]))
+
     def geometry(self, alpha: float) -> PassGeometry:
         """Pass-plane tables for the feed direction alpha (radians), memoized."""
         key = round(float(np.degrees(alpha)) % 360.0, 9)
@@ -115,7 +130,7 @@ class Planner:
             delta = np.full(n, np.nan)
         parts: list[Sections] = []
         zones = np.ones(n, np.int64)
-        if self.layouts.gene is None and self.layouts.single and self.spacing == "stepover":
+        if not self.zoned:
             geom = self.geometry(np.radians(self.feed_angle))
             parts.append(full_plane_sections(geom, np.arange(n), delta, step))
         else:
@@ -148,14 +163,13 @@ class Planner:
                "zone": path.zone, "on_part": path.info["on_part"],
                "inserted": np.zeros(len(path), bool)}
         cutter = tool.cutter
+        if self.machine.drop:  # the drop-cutter placement: every move at its own XY
+            pts, stats = refine_drop_moves(pts, cutter, self.surface, self.tolerance,
+                                           chord_rounds)
+        else:  # the tangent placement: against the tangent tip at the moves' CC points
+            def place(c, surface, cc, normal):
+                return self.machine.tips(c, surface, cc, normal, None)
 
-        def place(c, surface, cc, normal):
-            return self.machine.tips(c, surface, cc, normal, None)
-
-        refine = refine_drop_moves if self.machine.drop else None
-        if refine is not None:  # the drop-cutter placement: every move at its own XY
-            pts, stats = refine(pts, cutter, self.surface, self.tolerance, chord_rounds)
-        else:
             pts, stats = refine_chords(self.surface, cutter, place, pts, self.tolerance,
                                        chord_rounds)
         info = {"cc": pts["cc"], "uv": pts["uv"], "normal": pts["normal"],
@@ -216,7 +230,6 @@ class Planner:
                 off = self.tools.cutter(t).cc_to_tip(p[sel], normal[sel], axis[sel]) - p[sel]
                 ahead[sel] = np.sum(off[:, :2] * tangent[sel, :2], axis=1) / np.maximum(
                     np.linalg.norm(tangent[sel, :2], axis=1), 1e-300)
-            base = OVERRUN * self.tools.R[tool[sec["ind"]]]
             # the wedge runs only where the tool's height comes from the drop-cutter: a 5-axis
             # tool running on along its tangent past an oblique edge swept the part's corner
             # (0.31 mm simulated gouge, torus D16 r3 at 172 deg on Fountas' part)
@@ -224,8 +237,8 @@ class Planner:
             pt, new_start, count, on_part, shift, (x_sec, x_len) = add_overrun(
                 pt, new_start, count, np.where(reverse, hi_end, lo_end),
                 np.where(reverse, lo_end, hi_end),
-                base + wedge * np.where(reverse, sec["run_hi"], sec["run_lo"]),
-                base + wedge * np.where(reverse, sec["run_lo"], sec["run_hi"]), ahead)
+                wedge * np.where(reverse, sec["run_hi"], sec["run_lo"]),
+                wedge * np.where(reverse, sec["run_lo"], sec["run_hi"]), ahead)
             seg = {"sec": np.r_[seg["sec"], x_sec], "err": np.r_[seg["err"], 0.0 * x_len],
                    "len": np.r_[seg["len"], x_len],
                    "cc": np.r_[seg["cc"], np.zeros(len(x_sec), bool)]}
@@ -268,8 +281,8 @@ def _pass_rank(ind, zone, pass_k):
 
 
 def _groups(values, tool, layouts):
-    """Individuals grouped by (zoning gene value, tool): {(value, tool): rows}."""
-    keys = {}
-    for i, (val, t) in enumerate(zip(values, tool)):
-        keys.setdefault((layouts.key(val), int(t)), []).append(i)
-    return [(k, np.array(v)) for k, v in keys.items()]
+    """Individuals grouped by (zoning gene value, tool): [((value, tool), rows)]."""
+    keys = np.stack([layouts.keys(values), np.asarray(tool, float)])
+    uniq, inverse = np.unique(keys, axis=1, return_inverse=True)
+    return [((layouts.key(v), int(t)), np.flatnonzero(inverse.ravel() == g))
+            for g, (v, t) in enumerate(uniq.T)]

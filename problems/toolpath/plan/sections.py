@@ -80,17 +80,13 @@ def _gaps(owner, k, d, n_int):
     return d, np.where(n_int == 0, 0.0, gap), side
 
 
-#: how far a plane's band reaches towards its neighbours, in gaps: the whole gap (measured
-#: on Choi's surface, 0.5, each plane's own half-gap strip, left maxima of 0.32-0.40 mm at
-#: h_c 0.254 where 1.0 keeps them within 10 % of h_c)
-BAND = 1.0
-
-
 def _band(k, gap, side):
     """(up, down): how far each plane's band reaches towards the next plane (along +c) and
-    towards the previous one: ``BAND`` times the gaps."""
+    towards the previous one: the whole gap (measured on Choi's surface: half of it, each
+    plane's own half-gap strip, left maxima of 0.32-0.40 mm at h_c 0.254 where the whole
+    gap keeps them within 10 % of h_c)."""
     prev_gap = np.where(k > 0, np.r_[0.0, gap[:-1]], 0.0)
-    return BAND * np.where(side > 0, gap, 0.0), BAND * np.where(side != 0, prev_gap, 0.0)
+    return np.where(side > 0, gap, 0.0), np.where(side != 0, prev_gap, 0.0)
 
 
 def edge_runs(geom: PassGeometry, d, up, down, samples: int = 4):

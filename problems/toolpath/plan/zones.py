@@ -30,7 +30,11 @@ from .zoning.passes import zone_passes
 from .zoning.samples import sample_surface
 from .zoning.stepover import ScallopTarget
 
-__all__ = ["ZoningSpec", "ZoneLayout", "ZoneLayouts", "ALPHA_STEP_DEG"]
+__all__ = ["ZoningSpec", "ZoneLayout", "ZoneLayouts", "ALPHA_STEP_DEG", "DEFAULT_H_C"]
+
+#: mm: Choi's and Djebali's scallop limit (0.01 in), the zones' direction search's target
+#: when a plan has none of its own
+DEFAULT_H_C = 0.254
 
 #: optimized feed directions are rounded to this grid (degrees): the search resolves no finer
 #: (its tolerance), and layouts that share a direction share its pass-plane tables
@@ -86,7 +90,7 @@ class ZoneLayouts:
         self.settings = self.method.settings(self.spec.settings)
         self.gene = None if self.method.gene is None else self.method.gene.name
         self.single = self.method.name == "single" and feed_angle is not None
-        self.h_c = 0.254 if h_c is None else float(h_c)
+        self.h_c = DEFAULT_H_C if h_c is None else float(h_c)
         self.feed_angle = feed_angle
         self.mesh = check_mesh(*self.spec.mesh)
         self._features = self._samples = None
@@ -116,6 +120,13 @@ class ZoneLayouts:
         if self.gene is None:
             return None
         return int(round(float(value))) if self.method.gene.integer else round(float(value), 9)
+
+    def keys(self, values) -> np.ndarray:
+        """:meth:`key` of many values, as floats (0 without a gene): what groups plans."""
+        values = np.asarray(values, float)
+        if self.gene is None:
+            return np.zeros_like(values)
+        return np.rint(values) if self.method.gene.integer else np.round(values, 9)
 
     def get(self, value, tool: int) -> ZoneLayout:
         """The layout of one gene value and tool index (memoized)."""

@@ -37,26 +37,27 @@ def _drop_stale_numba_caches() -> None:
 
 _drop_stale_numba_caches()
 
+from .kernel import _GOLD  # noqa: E402
 from .moves import sweep_moves, tiles  # noqa: E402
 from .stamp import sweep as sweep_stamps  # noqa: E402
 
 __all__ = ["Residual", "sweep_path", "poses", "moves"]
 
-_GOLD = 0.5 * (np.sqrt(5.0) - 1.0)
-#: counts of the last sweep by moves (for the benchmark)
-last_stats: dict = {}
 
 
 @dataclass(frozen=True)
 class Residual:
     """``values`` (ny, nx): entry parameter along each cell's ray (mm; > 0 material left,
     < 0 gouge, inf: no pose reached the cell, nan: off the part); ``vertical``: rays along
-    z, else along the design-surface normal."""
+    z, else along the design-surface normal; ``poses`` the moves (or stamped poses) swept;
+    ``work`` the kernel's counts of a sweep by moves (entries at CL points, moves searched,
+    entries in the searches, golden-section entries), for the benchmark."""
 
     values: np.ndarray
     vertical: bool
     seconds: float
     poses: int = 0
+    work: dict | None = None
 
 
 def _sections(section: np.ndarray):
@@ -123,7 +124,7 @@ def _sweep_stamps(path, grid, res, vertical, pose_step, tol, n_slots):
     sweep_stamps(res, grid.x0, grid.y0, h, grid.z, grid.normal, grid.inside, bool(vertical),
                  path.tip, path.axis, s, ds, lo, hi, reach, float(R), float(r), int(n_slots),
                  2, n_golden)
-    return len(s)
+    return len(s), None
 
 
 def _sweep_moves(path, grid, res, vertical, tol, bend_tol, near_miss, tile_mm):
@@ -139,10 +140,8 @@ def _sweep_moves(path, grid, res, vertical, tol, bend_tol, near_miss, tile_mm):
     sweep_moves(res, grid.x0, grid.y0, h, grid.z, grid.normal, grid.inside, bool(vertical),
                 path.tip, path.axis, mi, mj, reach, ts, ptr, tile_mv, float(R), float(r),
                 float(tol), float(bend_tol), float(near_miss), n_golden, stats)
-    global last_stats
-    last_stats = dict(zip(("point_entries", "moves_searched", "search_entries", "golden"),
-                          stats.tolist()))
-    return len(mi)
+    return len(mi), dict(zip(("point_entries", "moves_searched", "search_entries", "golden"),
+                             stats.tolist()))
 
 
 def sweep_path(path: CLPath, grid: DesignGrid, *, vertical: bool = False, method: str = "moves",
@@ -174,12 +173,12 @@ def sweep_path(path: CLPath, grid: DesignGrid, *, vertical: bool = False, method
     if len(path) == 0:
         return Residual(res, vertical, 0.0)
     if method == "moves":
-        n = _sweep_moves(path, grid, res, vertical, 1e-6 if tol is None else tol, bend_tol,
-                         near_miss, tile_mm)
+        n, work = _sweep_moves(path, grid, res, vertical, 1e-6 if tol is None else tol,
+                               bend_tol, near_miss, tile_mm)
     elif method == "stamps":
-        n = _sweep_stamps(path, grid, res, vertical, pose_step, 4e-3 if tol is None else tol,
-                          n_slots)
+        n, work = _sweep_stamps(path, grid, res, vertical, pose_step,
+                                4e-3 if tol is None else tol, n_slots)
     else:
         raise ValueError(f"sweep method: {method!r} is not 'moves' or 'stamps'")
     res[~grid.inside] = np.nan
-    return Residual(res, bool(vertical), time.perf_counter() - t0, n)
+    return Residual(res, bool(vertical), time.perf_counter() - t0, n, work)

@@ -193,7 +193,7 @@ def test_shipped_amas_default_on_choi_beats_raw_amas_and_a_single_zone():
     assert facts["info"]["merge"]["zones_in"] == int(raw.zones[0]) > 10  # AMAS alone fragments
     assert facts["n_zones"] < int(raw.zones[0])
     assert facts["total_length_mm"] < single_total < raw_total
-    labels = planner.layouts.get(genes["k_lz"][0], 0).labels
+    labels = planner.layout(genes).labels
     assert_connected(labels)
     area = np.array([z["area_mm2"] for z in facts["zones"]])
     assert area.min() >= cfg.merge.min_zone_area * area.sum()

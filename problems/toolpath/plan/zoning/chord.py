@@ -31,7 +31,7 @@ import numpy as np
 from ...cutters.surface_grid import uv_at_xy
 from ...geometry.surface import unit_normal
 
-__all__ = ["refine_chords"]
+__all__ = ["refine_chords", "split_moves"]
 
 _Q = np.array([0.25, 0.5, 0.75])
 
@@ -46,6 +46,24 @@ def _placed(surface, cutter, place, xy, uv0):
     if ok.any():
         tip[ok] = place(cutter, surface, cc[ok], normal[ok])
     return ok, uv, cc, normal, tip
+
+
+def split_moves(points: dict, move_dev, left, new: dict):
+    """Insert a row after each row index of ``left`` (the moves being split): the fields of
+    ``new``, the other fields repeated from the left neighbour, ``inserted`` (when the points
+    carry it) True. Returns (points, move deviations with 0 for the new halves, pending: the
+    moves to check next round, both halves of every split)."""
+    pts = dict(points)
+    new = dict(new)
+    if "inserted" in pts:
+        new["inserted"] = np.ones(len(left), bool)
+    for key, arr in pts.items():
+        pts[key] = np.insert(arr, left + 1, new[key] if key in new else arr[left], axis=0)
+    move_dev = np.insert(move_dev, left + 1, 0.0)
+    at = left + 1 + np.arange(len(left))  # the new rows' indices
+    pending = np.zeros(len(move_dev), bool)
+    pending[at - 1] = pending[at] = True
+    return pts, move_dev, pending
 
 
 def refine_chords(surface, cutter, place, points: dict, tolerance: float, rounds: int = 8):
@@ -78,14 +96,8 @@ def refine_chords(surface, cutter, place, points: dict, tolerance: float, rounds
             break
         done += 1
         left, rows = i[bad], mid[bad]
-        new = {"uv": uv[rows], "cc": cc[rows], "normal": normal[rows], "tip": tip[rows],
-               "inserted": np.ones(len(rows), bool)}
-        for key, arr in pts.items():
-            pts[key] = np.insert(arr, left + 1, new[key] if key in new else arr[left], axis=0)
-        move_dev = np.insert(move_dev, left + 1, 0.0)
-        at = left + 1 + np.arange(len(left))  # the new rows' indices
-        pending = np.zeros(len(move_dev), bool)
-        pending[at - 1] = pending[at] = True
+        new = {"uv": uv[rows], "cc": cc[rows], "normal": normal[rows], "tip": tip[rows]}
+        pts, move_dev, pending = split_moves(pts, move_dev, left, new)
         added += len(left)
     stats = {"chord_added": added, "chord_rounds": done,
              "chord_deviation": float(move_dev.max(initial=0.0)),
