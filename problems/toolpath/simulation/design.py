@@ -9,6 +9,9 @@ For a parametric surface the cell centres (x, y) are mapped back to (u, v): a bi
 from a coarse inverse table, then Newton's method on (x(u, v), y(u, v)) = (x, y). A centre
 whose Newton solution leaves the unit square, or does not converge, is off the part. The
 surface must be a graph over XY (one point above each (x, y)); a fold is refused.
+
+A polynomial surface (Fountas' part, Bezier nets) runs that per cell in one numba loop
+(``design_poly.py``, about 45 ns a cell); any other surface in numpy batches of cells.
 """
 
 from __future__ import annotations
@@ -19,12 +22,15 @@ import numpy as np
 from scipy.interpolate import RegularGridInterpolator
 from scipy.spatial import cKDTree
 
-from ..geometry.surface import Jet, Surface, unit_normal
+from ..geometry.surface import Jet, PolynomialSurface, Surface, unit_normal
+from .design_poly import empty_plain, poly_cells
 
 __all__ = ["DesignGrid", "design_grid", "grid_bytes", "BYTES_PER_CELL"]
 
 BYTES_PER_CELL = 8 * 6 + 1 + 8 * 2  # z, normal, residual, u, v, inside + working copies
 _CHUNK = 1 << 16  # cells per batch: the jets of a batch stay in cache
+_NOT_A_GRAPH = ("surface: not a graph over XY (a vertical wall or a fold): "
+                "the cut simulation needs one surface point above each (x, y)")
 
 
 @dataclass(frozen=True)
@@ -116,26 +122,9 @@ def _solve_xy(surface: Surface, x, y, u, v, iters: int = 4, tol: float = 1e-9):
     return out_u, out_v, Jet(p, su, sv), res
 
 
-def design_grid(surface: Surface, h: float, margin: float = 0.0,
-                max_bytes: float | None = None) -> DesignGrid:
-    """The design surface sampled on square cells of side ``h`` mm over its footprint.
-
-    ``margin`` widens the grid around the footprint (cells there are off the part).
-    ``max_bytes``: refuse (ValueError with the estimate) a grid that would need more memory.
-    """
-    if not (h > 0 and np.isfinite(h)):
-        raise ValueError(f"grid_mm: must be a positive number of mm, got {h!r}")
-    xmin, xmax, ymin, ymax = footprint(surface)
-    need = grid_bytes(xmax - xmin + 2 * margin, ymax - ymin + 2 * margin, h)
-    if max_bytes is not None and need > max_bytes:
-        raise ValueError(f"grid_mm: a {h:g} mm grid over {xmax - xmin:.1f} x {ymax - ymin:.1f} mm "
-                         f"needs about {need / 2**30:.1f} GiB, more than the "
-                         f"{max_bytes / 2**30:.1f} GiB allowed; use a coarser grid")
-    x0, y0 = xmin - margin + 0.5 * h, ymin - margin + 0.5 * h
-    nx = int(np.floor((xmax - xmin + 2 * margin) / h)) + 1
-    ny = int(np.floor((ymax - ymin + 2 * margin) / h)) + 1
-    # coarse inverse table (x, y) -> (u, v): nearest dense sample, Newton, then bilinear seed
-    nt = 161
+def _inverse_table(surface: Surface, xmin, xmax, ymin, ymax, nt: int = 161):
+    """Coarse inverse table (x, y) -> (u, v) on an nt x nt regular grid over the footprint:
+    the nearest of 301 x 301 samples, then 12 Newton steps. (tx, ty, tu, tv), tu (nt, nt)."""
     g = np.linspace(0.0, 1.0, 301)
     gu, gv = (a.ravel() for a in np.meshgrid(g, g, indexing="ij"))
     gp = surface.jet(gu, gv, order=0).p
@@ -144,10 +133,16 @@ def design_grid(surface: Surface, h: float, margin: float = 0.0,
     TX, TY = (a.ravel() for a in np.meshgrid(tx, ty, indexing="ij"))
     _, idx = cKDTree(gp[:, :2]).query(np.stack([TX, TY], axis=1))
     tu, tv = _newton_xy(surface, TX, TY, gu[idx], gv[idx], iters=12)
-    iu = RegularGridInterpolator((tx, ty), tu.reshape(nt, nt), bounds_error=False, fill_value=None)
-    iv = RegularGridInterpolator((tx, ty), tv.reshape(nt, nt), bounds_error=False, fill_value=None)
-    xs = x0 + h * np.arange(nx)
-    ys = y0 + h * np.arange(ny)
+    return tx, ty, tu.reshape(nt, nt), tv.reshape(nt, nt)
+
+
+def _numpy_cells(surface: Surface, xs, ys, table):
+    """(z, normal, inside, u, v) of the cells (xs x ys), any surface: batches of numpy
+    Newton steps from RegularGridInterpolator seeds."""
+    tx, ty, tu, tv = table
+    iu = RegularGridInterpolator((tx, ty), tu, bounds_error=False, fill_value=None)
+    iv = RegularGridInterpolator((tx, ty), tv, bounds_error=False, fill_value=None)
+    ny, nx = len(ys), len(xs)
     z = np.full(ny * nx, np.nan)
     normal = np.zeros((ny * nx, 3))
     inside = np.zeros(ny * nx, bool)
@@ -162,16 +157,64 @@ def design_grid(surface: Surface, h: float, margin: float = 0.0,
         ok = ((u >= -1e-9) & (u <= 1 + 1e-9) & (v >= -1e-9) & (v <= 1 + 1e-9) & (dist < 1e-6))
         nrm = unit_normal(j, surface.normal_sign)
         if (ok & (nrm[:, 2] <= 1e-6)).any():
-            raise ValueError("surface: not a graph over XY (a vertical wall or a fold): "
-                             "the cut simulation needs one surface point above each (x, y)")
+            raise ValueError(_NOT_A_GRAPH)
         z[a:a + _CHUNK] = np.where(ok, j.p[:, 2], np.nan)
         normal[a:a + _CHUNK] = nrm
         inside[a:a + _CHUNK] = ok
         U[a:a + _CHUNK] = np.where(ok, u, np.nan)
         V[a:a + _CHUNK] = np.where(ok, v, np.nan)
-    return DesignGrid(float(x0), float(y0), float(h), z.reshape(ny, nx),
-                      normal.reshape(ny, nx, 3), inside.reshape(ny, nx),
-                      U.reshape(ny, nx), V.reshape(ny, nx))
+    return (z.reshape(ny, nx), normal.reshape(ny, nx, 3), inside.reshape(ny, nx),
+            U.reshape(ny, nx), V.reshape(ny, nx))
+
+
+def _polynomial_cells(surface: PolynomialSurface, xs, ys, table):
+    """The same as :func:`_numpy_cells` for a polynomial surface, one numba loop over the
+    cells (``design_poly.py``): Horner jets, no temporary arrays, outputs on plain pages."""
+    tx, ty, tu, tv = table
+    ny, nx = len(ys), len(xs)
+    z, inside = empty_plain((ny, nx)), empty_plain((ny, nx), bool)
+    normal, U, V = empty_plain((ny, nx, 3)), empty_plain((ny, nx)), empty_plain((ny, nx))
+    bad = poly_cells(np.ascontiguousarray(surface.coeffs, dtype=float),
+                     float(surface.normal_sign), xs, ys, tx, ty,
+                     np.ascontiguousarray(tu), np.ascontiguousarray(tv), 4, 1e-9,
+                     z, normal, inside, U, V)
+    if bad:
+        raise ValueError(_NOT_A_GRAPH)
+    return z, normal, inside, U, V
+
+
+def design_grid(surface: Surface, h: float, margin: float = 0.0,
+                max_bytes: float | None = None) -> DesignGrid:
+    """The design surface sampled on square cells of side ``h`` mm over its footprint.
+
+    ``margin`` widens the grid around the footprint (cells there are off the part).
+    ``max_bytes``: refuse (ValueError with the estimate) a grid that would need more memory.
+    A polynomial surface (Fountas' part, Bezier nets) takes the numba path, any other the
+    numpy one; both give the same grid.
+    """
+    cells = _polynomial_cells if isinstance(surface, PolynomialSurface) else _numpy_cells
+    return _design_grid(surface, h, margin, max_bytes, cells)
+
+
+def _design_grid(surface: Surface, h: float, margin: float, max_bytes: float | None,
+                 cells) -> DesignGrid:
+    """:func:`design_grid` with the cells computed by ``cells`` (the numpy or numba path)."""
+    if not (h > 0 and np.isfinite(h)):
+        raise ValueError(f"grid_mm: must be a positive number of mm, got {h!r}")
+    xmin, xmax, ymin, ymax = footprint(surface)
+    need = grid_bytes(xmax - xmin + 2 * margin, ymax - ymin + 2 * margin, h)
+    if max_bytes is not None and need > max_bytes:
+        raise ValueError(f"grid_mm: a {h:g} mm grid over {xmax - xmin:.1f} x {ymax - ymin:.1f} mm "
+                         f"needs about {need / 2**30:.1f} GiB, more than the "
+                         f"{max_bytes / 2**30:.1f} GiB allowed; use a coarser grid")
+    x0, y0 = xmin - margin + 0.5 * h, ymin - margin + 0.5 * h
+    nx = int(np.floor((xmax - xmin + 2 * margin) / h)) + 1
+    ny = int(np.floor((ymax - ymin + 2 * margin) / h)) + 1
+    xs = x0 + h * np.arange(nx)
+    ys = y0 + h * np.arange(ny)
+    table = _inverse_table(surface, xmin, xmax, ymin, ymax)
+    z, normal, inside, U, V = cells(surface, xs, ys, table)
+    return DesignGrid(float(x0), float(y0), float(h), z, normal, inside, U, V)
 
 
 def analytic_grid(fz, fgrad, bounds, h: float) -> DesignGrid:
