@@ -19,6 +19,9 @@ from numba import njit
 from .convex import _HALF, _axis_rate, _curl, _move_min, _slope
 from .kernel import INF, _entry, _ray, entry_gradient
 
+#: a move whose whole-move geometric bound fails is bounded again span by span
+SPANS = 4
+
 
 @njit(cache=True, nogil=True, error_model="numpy")
 def _seg_dist2(px, py, x0, y0, x1, y1):
@@ -89,34 +92,72 @@ def _end_slope(g, k, i, j, tip, axis):
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
-def _geo(i, j, tip, axis, px, py, pz, dx, dy, dz, e):
-    """What bounds the entry over move i -> j without computing one: e = (U, w0 max,
-    |w0| max, a . d min, a . d max, |d - (a . d) a| max) with U a lower bound of the
-    distance from the ray's start to the axis over the move. The axis turns by at most
-    ``turn`` (chord of the axes), which moves any point at distance l from the tip by at
-    most l turn; it is added to every figure (see :func:`_geo_bound`)."""
-    ex, ey, ez = axis[j, 0] - axis[i, 0], axis[j, 1] - axis[i, 1], axis[j, 2] - axis[i, 2]
+def _geo_span(tix, tiy, tiz, aix, aiy, aiz, tjx, tjy, tjz, ajx, ajy, ajz, px, py, pz, dx, dy,
+              dz, e):
+    """What bounds the entry over the motion from pose (ti, ai) to pose (tj, aj) without
+    computing one: e = (U, w0 max, |w0| max, a . d min, a . d max, |d - (a . d) a| max) with U
+    a lower bound of the distance from the ray's start to the axis over the motion. The axis
+    turns by at most ``turn`` (chord of the axes), which moves any point at distance l from
+    the tip by at most l turn; it is added to every figure (see :func:`_geo_bound`)."""
+    ex, ey, ez = ajx - aix, ajy - aiy, ajz - aiz
     turn = math.sqrt(ex * ex + ey * ey + ez * ez)
-    ax, ay, az = axis[i, 0], axis[i, 1], axis[i, 2]
-    qx, qy, qz = px - tip[i, 0], py - tip[i, 1], pz - tip[i, 2]
-    rx, ry, rz = px - tip[j, 0], py - tip[j, 1], pz - tip[j, 2]
-    wi = qx * ax + qy * ay + qz * az
-    wj = rx * ax + ry * ay + rz * az
+    qx, qy, qz = px - tix, py - tiy, pz - tiz
+    rx, ry, rz = px - tjx, py - tjy, pz - tjz
+    wi = qx * aix + qy * aiy + qz * aiz
+    wj = rx * aix + ry * aiy + rz * aiz
     lmax = max(math.sqrt(qx * qx + qy * qy + qz * qz), math.sqrt(rx * rx + ry * ry + rz * rz))
     # distance from p to the tip's segment in the plane across the axis a_i
-    ux, uy, uz = qx - wi * ax, qy - wi * ay, qz - wi * az
-    vx, vy, vz = (rx - wj * ax) - ux, (ry - wj * ay) - uy, (rz - wj * az) - uz
+    ux, uy, uz = qx - wi * aix, qy - wi * aiy, qz - wi * aiz
+    vx, vy, vz = (rx - wj * aix) - ux, (ry - wj * aiy) - uy, (rz - wj * aiz) - uz
     vv = vx * vx + vy * vy + vz * vz
     lam = 0.0 if vv <= 0.0 else min(max(-(ux * vx + uy * vy + uz * vz) / vv, 0.0), 1.0)
     dd = math.sqrt((ux + lam * vx) ** 2 + (uy + lam * vy) ** 2 + (uz + lam * vz) ** 2)
-    da_i = dx * ax + dy * ay + dz * az
-    da_j = dx * axis[j, 0] + dy * axis[j, 1] + dz * axis[j, 2]
+    da_i = dx * aix + dy * aiy + dz * aiz
+    da_j = dx * ajx + dy * ajy + dz * ajz
     e[0] = dd - lmax * turn
     e[1] = max(wi, wj) + lmax * turn
     e[2] = max(abs(wi), abs(wj)) + lmax * turn
     e[3] = min(da_i, da_j) - turn
     e[4] = min(max(da_i, da_j) + turn, 1.0)
     e[5] = math.sqrt(max(1.0 - min(da_i, da_j) ** 2, 0.0)) + turn
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _geo(i, j, tip, axis, px, py, pz, dx, dy, dz, e):
+    """:func:`_geo_span` over the whole move i -> j."""
+    _geo_span(tip[i, 0], tip[i, 1], tip[i, 2], axis[i, 0], axis[i, 1], axis[i, 2],
+              tip[j, 0], tip[j, 1], tip[j, 2], axis[j, 0], axis[j, 1], axis[j, 2],
+              px, py, pz, dx, dy, dz, e)
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _geo_spans(i, j, tip, axis, px, py, pz, dx, dy, dz, T, R, r, e):
+    """:func:`_geo_bound` over move i -> j cut into ``SPANS`` equal spans: T if every span's
+    bound reaches T (the move cannot cut below T), else the first that does not. Over a whole move the height of the ray's start above the tip plane changes
+    by the lead times the move's length, and the axis turns; the whole-move figures take
+    the worst of both, the spans' far less. The span where the tip passes closest to the
+    cell (in XY) goes first: a move that can cut there fails at once."""
+    vx, vy, vz = tip[j, 0] - tip[i, 0], tip[j, 1] - tip[i, 1], tip[j, 2] - tip[i, 2]
+    wx, wy, wz = axis[j, 0] - axis[i, 0], axis[j, 1] - axis[i, 1], axis[j, 2] - axis[i, 2]
+    vv = vx * vx + vy * vy
+    sc = 0.5 if vv <= 0.0 else min(max(((px - tip[i, 0]) * vx + (py - tip[i, 1]) * vy) / vv,
+                                        0.0), 1.0)
+    first = min(int(sc * SPANS), SPANS - 1)
+    for q in range(SPANS):
+        k = (first + q) % SPANS
+        s0, s1 = k / SPANS, (k + 1.0) / SPANS
+        ax, ay, az = axis[i, 0] + s0 * wx, axis[i, 1] + s0 * wy, axis[i, 2] + s0 * wz
+        na = 1.0 / math.sqrt(ax * ax + ay * ay + az * az)
+        bx, by, bz = axis[i, 0] + s1 * wx, axis[i, 1] + s1 * wy, axis[i, 2] + s1 * wz
+        nb = 1.0 / math.sqrt(bx * bx + by * by + bz * bz)
+        _geo_span(tip[i, 0] + s0 * vx, tip[i, 1] + s0 * vy, tip[i, 2] + s0 * vz,
+                  ax * na, ay * na, az * na,
+                  tip[i, 0] + s1 * vx, tip[i, 1] + s1 * vy, tip[i, 2] + s1 * vz,
+                  bx * nb, by * nb, bz * nb, px, py, pz, dx, dy, dz, e)
+        lo = _geo_bound(e, T, R, r)
+        if not lo >= T:  # (nan where the ray runs along the axis: no bound)
+            return lo
+    return T
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
@@ -161,9 +202,12 @@ def sweep_moves(res, x0, y0, h, pz, nrm, inside, vertical, tip, axis, mv_i, mv_j
         if ptr[tile + 1] == ptr[tile]:
             continue
         ky, kx = tile // tx, tile % tx
+        top_m, top_s = -1, -1.0  # the deepest move and pose of the row's first cell
         for iy in range(ky * ts, min(ky * ts + ts, ny)):
             py = y0 + iy * h
-            hint_m, hint_s = -1, -1.0  # the deepest move and pose of the previous cell
+            # the deepest move and pose of the previous cell (the cell above for the first)
+            hint_m, hint_s = top_m, top_s
+            first = True
             for ix in range(kx * ts, min(kx * ts + ts, nx)):
                 if not inside[iy, ix]:
                     continue
@@ -193,10 +237,13 @@ def sweep_moves(res, x0, y0, h, pz, nrm, inside, vertical, tip, axis, mv_i, mv_j
                 # found so far is skipped without computing any entry
                 for o in range(nc):
                     c = order[o]
+                    m = cm[c]
                     if _geo_bound(geo[c], best, R, r) >= best:
                         continue
-                    m = cm[c]
                     i, j = mv_i[m], mv_j[m]
+                    if best < _HALF and m != hint_m and _geo_spans(
+                            i, j, tip, axis, px, py, p_z, dx, dy, dz, best, R, r, gs) >= best:
+                        continue
                     # a CL point's entry serves both moves that meet there
                     if c > 0 and done[c - 1] and mv_j[cm[c - 1]] == i:
                         f0 = cf[c - 1, 3]
@@ -229,3 +276,5 @@ def sweep_moves(res, x0, y0, h, pz, nrm, inside, vertical, tip, axis, mv_i, mv_j
                         best, best_m, best_s = got, m, s_got
                 res[iy, ix] = best if best < _HALF else INF
                 hint_m, hint_s = best_m, best_s
+                if first:
+                    top_m, top_s, first = best_m, best_s, False

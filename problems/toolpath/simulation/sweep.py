@@ -151,7 +151,7 @@ def sweep_path(path: CLPath, grid: DesignGrid, *, vertical: bool = False, method
 
     ``method="moves"`` (default, ``moves.py`` and ``convex.py``): every feed move is
     searched exactly for each cell it can reach, using the convexity of the entry along a
-    move; ``tol`` (mm of entry, default 1e-6) is how far above the tangents' lower bound the
+    move; ``tol`` (mm of entry, default 1e-5) is how far above the tangents' lower bound the
     search may stop, ``bend_tol`` the same for the allowance the turning axis needs;
     ``near_miss`` (mm): a move whose both ends miss the ray is searched when its closest
     pose misses by less; ``tile_mm``: the side of the tiles that list the moves. Measured
@@ -173,7 +173,7 @@ def sweep_path(path: CLPath, grid: DesignGrid, *, vertical: bool = False, method
     if len(path) == 0:
         return Residual(res, vertical, 0.0)
     if method == "moves":
-        n, work = _sweep_moves(path, grid, res, vertical, 1e-6 if tol is None else tol,
+        n, work = _sweep_moves(path, grid, res, vertical, 1e-5 if tol is None else tol,
                                bend_tol, near_miss, tile_mm)
     elif method == "stamps":
         n, work = _sweep_stamps(path, grid, res, vertical, pose_step,

@@ -58,7 +58,8 @@ def test_ball_on_plane_cusp(s):
     assert cusp.max() == pytest.approx(R - np.sqrt(R * R - s * s / 4), abs=2e-5)
     assert np.ptp(cusp) < 2e-5  # the same all along the pass
     on = res[_row(g, ys[2]), 100:700]
-    assert np.abs(on).max() < 1e-6  # the ball touches the plane under its pass, no gouge
+    # the ball touches the plane under its pass (no gouge), to the search's tolerance (1e-5 mm)
+    assert np.abs(on).max() < 1e-5
 
 
 def test_flat_end_with_lead_on_plane_leaves_an_ellipse():
