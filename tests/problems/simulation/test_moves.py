@@ -70,3 +70,31 @@ def test_a_turning_axis_bends_the_entry_and_the_bound_allows_for_it():
     low = np.isfinite(got) & np.isfinite(ref) & (np.fmin(got, ref) < 1.0)
     assert low.sum() > 0.5 * g.inside.sum()
     assert np.abs(got[low] - ref[low]).max() < 1e-4
+
+
+@pytest.mark.parametrize("R, r", [(8.0, 3.0), (6.0, 6.0), (4.0, 0.0)])
+def test_span_bound_never_exceeds_the_entries_it_bounds(R, r):
+    # the geometric bound of a move cut into spans (what lets the sweep skip a move without
+    # computing an entry) must lie below every entry along the move that is below T
+    from evoplan.problems.toolpath.simulation.moves import _geo_spans
+
+    tip = np.array([[0.0, 0.0, 0.0], [6.0, 1.0, 0.5]])
+    ax = np.array([[0.05, -0.03, 1.0], [0.14, 0.03, 1.0]])
+    ax /= np.linalg.norm(ax, axis=1, keepdims=True)
+    rng = np.random.default_rng(5)
+    g, e = np.empty(6), np.empty(6)
+    s = np.linspace(0.0, 1.0, 2001)
+    tight = 0
+    for _ in range(300):
+        p = np.r_[rng.uniform(-R - 1, 7 + R, 2), rng.uniform(-1.0, 1.0)]
+        d = np.r_[rng.normal(0, 0.15, 2), 1.0]
+        d /= np.linalg.norm(d)
+        f = np.array([_at(si, 0, 1, tip, ax, *p, *d, R, r, g)[0] for si in s])
+        low = f.min()
+        T = low + rng.uniform(-0.5, 0.5)  # a best entry found elsewhere
+        b = _geo_spans(0, 1, tip, ax, *p, *d, T, R, r, e)
+        if low < T:  # the move cuts below T: the bound must not claim it cannot
+            assert not b >= T
+        elif b >= T:
+            tight += 1
+    assert tight > 0  # and it does skip moves that cannot cut below T
