@@ -114,11 +114,12 @@ def _bend(ka, kb):
 
 @njit(cache=True, nogil=True, error_model="numpy")
 def _move_min(i, j, tip, axis, px, py, pz, dx, dy, dz, R, r, fa, sa, na, fb, sb, nb, best,
-              tol, bend_tol, near_miss, n_golden, g, stk, stats, s0):
+              tol, bend_tol, near_miss, n_golden, g, stk, stats, s0, lo, hi):
     """(best, s): the deepest entry over move i -> j (s in [0, 1]) if it is below ``best``
     (else best, -1) and where it is. fa, sa, na / fb, sb, nb: entry, slope and 1 / cos at
     the ends (see the module doc); s0 in (0, 1): where to try first (the neighbouring
-    cell's deepest pose).
+    cell's deepest pose); [lo, hi]: the stretch outside which the move cannot cut below
+    best (searched alone where both ends hit).
 
     Branch and bound over sub-intervals of the move, each bounded by :func:`_bound` with
     kap, a bound of how far the turning axis bends f away from convex (the cutter frame
@@ -148,7 +149,18 @@ def _move_min(i, j, tip, axis, px, py, pz, dx, dy, dz, R, r, fa, sa, na, fb, sb,
         stk[1, :] = (sc, 1.0, f, sl, nu, fb, sb, nu, 0.0)
         n = 2
     else:
-        stk[0, :] = (0.0, 1.0, fa, sa, na, fb, sb, nb, 0.0)
+        # only [lo, hi] can cut below best (the spans' geometric bounds): search that
+        if lo > 0.0:
+            fa, sa, na = _at(lo, i, j, tip, axis, px, py, pz, dx, dy, dz, R, r, g)
+            stats[2] += 1
+            if fa < best:
+                best, s_best = fa, lo
+        if hi < 1.0:
+            fb, sb, nb = _at(hi, i, j, tip, axis, px, py, pz, dx, dy, dz, R, r, g)
+            stats[2] += 1
+            if fb < best:
+                best, s_best = fb, hi
+        stk[0, :] = (lo, hi, fa, sa, na, fb, sb, nb, 0.0)
         n = 1
     evals = 0
     while n > 0:

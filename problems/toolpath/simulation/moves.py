@@ -132,32 +132,29 @@ def _geo(i, j, tip, axis, px, py, pz, dx, dy, dz, e):
 
 @njit(cache=True, nogil=True, error_model="numpy")
 def _geo_spans(i, j, tip, axis, px, py, pz, dx, dy, dz, T, R, r, e):
-    """:func:`_geo_bound` over move i -> j cut into ``SPANS`` equal spans: T if every span's
-    bound reaches T (the move cannot cut below T), else the first that does not. Over a whole move the height of the ray's start above the tip plane changes
-    by the lead times the move's length, and the axis turns; the whole-move figures take
-    the worst of both, the spans' far less. The span where the tip passes closest to the
-    cell (in XY) goes first: a move that can cut there fails at once."""
+    """(lo, hi): the stretch of move i -> j (in s) outside which it cannot cut below T, from
+    :func:`_geo_bound` over the move cut into ``SPANS`` equal spans; lo > hi where no span
+    can. Over a whole move the height of the ray's start above the tip plane changes by the
+    lead times the move's length, and the axis turns; the whole-move figures take the worst
+    of both, a span's far less."""
     vx, vy, vz = tip[j, 0] - tip[i, 0], tip[j, 1] - tip[i, 1], tip[j, 2] - tip[i, 2]
     wx, wy, wz = axis[j, 0] - axis[i, 0], axis[j, 1] - axis[i, 1], axis[j, 2] - axis[i, 2]
-    vv = vx * vx + vy * vy
-    sc = 0.5 if vv <= 0.0 else min(max(((px - tip[i, 0]) * vx + (py - tip[i, 1]) * vy) / vv,
-                                        0.0), 1.0)
-    first = min(int(sc * SPANS), SPANS - 1)
-    for q in range(SPANS):
-        k = (first + q) % SPANS
+    lo, hi = 1.0, 0.0
+    bx, by, bz = axis[i, 0], axis[i, 1], axis[i, 2]
+    nb = 1.0 / math.sqrt(bx * bx + by * by + bz * bz)
+    bx, by, bz = bx * nb, by * nb, bz * nb
+    for k in range(SPANS):
         s0, s1 = k / SPANS, (k + 1.0) / SPANS
-        ax, ay, az = axis[i, 0] + s0 * wx, axis[i, 1] + s0 * wy, axis[i, 2] + s0 * wz
-        na = 1.0 / math.sqrt(ax * ax + ay * ay + az * az)
+        ax, ay, az = bx, by, bz
         bx, by, bz = axis[i, 0] + s1 * wx, axis[i, 1] + s1 * wy, axis[i, 2] + s1 * wz
         nb = 1.0 / math.sqrt(bx * bx + by * by + bz * bz)
-        _geo_span(tip[i, 0] + s0 * vx, tip[i, 1] + s0 * vy, tip[i, 2] + s0 * vz,
-                  ax * na, ay * na, az * na,
-                  tip[i, 0] + s1 * vx, tip[i, 1] + s1 * vy, tip[i, 2] + s1 * vz,
-                  bx * nb, by * nb, bz * nb, px, py, pz, dx, dy, dz, e)
-        lo = _geo_bound(e, T, R, r)
-        if not lo >= T:  # (nan where the ray runs along the axis: no bound)
-            return lo
-    return T
+        bx, by, bz = bx * nb, by * nb, bz * nb
+        _geo_span(tip[i, 0] + s0 * vx, tip[i, 1] + s0 * vy, tip[i, 2] + s0 * vz, ax, ay, az,
+                  tip[i, 0] + s1 * vx, tip[i, 1] + s1 * vy, tip[i, 2] + s1 * vz, bx, by, bz,
+                  px, py, pz, dx, dy, dz, e)
+        if not _geo_bound(e, T, R, r) >= T:  # (nan where the ray runs along the axis)
+            lo, hi = min(lo, s0), s1
+    return lo, hi
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
@@ -196,7 +193,7 @@ def sweep_moves(res, x0, y0, h, pz, nrm, inside, vertical, tip, axis, mv_i, mv_j
     stk = np.empty((64, 9))
     geo = np.empty((n_max, 6))
     cg = np.empty((n_max, 2, 6))
-    done = np.zeros(n_max, np.bool_)
+    have = np.zeros((n_max, 2), np.bool_)  # the entries at a candidate's ends computed
     gs = np.empty(6)
     for tile in range(ptr.shape[0] - 1):
         if ptr[tile + 1] == ptr[tile]:
@@ -226,7 +223,7 @@ def sweep_moves(res, x0, y0, h, pz, nrm, inside, vertical, tip, axis, mv_i, mv_j
                     cm[nc] = m
                     _geo(i, j, tip, axis, px, py, p_z, dx, dy, dz, geo[nc])
                     key[nc] = -INF if m == hint_m else _geo_bound(geo[nc], 0.0, R, r)
-                    done[nc] = False
+                    have[nc, 0] = have[nc, 1] = False
                     order[nc] = nc
                     k = nc
                     while k > 0 and key[order[k - 1]] > key[order[k]]:
@@ -241,37 +238,48 @@ def sweep_moves(res, x0, y0, h, pz, nrm, inside, vertical, tip, axis, mv_i, mv_j
                     if _geo_bound(geo[c], best, R, r) >= best:
                         continue
                     i, j = mv_i[m], mv_j[m]
-                    if best < _HALF and m != hint_m and _geo_spans(
-                            i, j, tip, axis, px, py, p_z, dx, dy, dz, best, R, r, gs) >= best:
-                        continue
-                    # a CL point's entry serves both moves that meet there
-                    if c > 0 and done[c - 1] and mv_j[cm[c - 1]] == i:
-                        f0 = cf[c - 1, 3]
-                        cg[c, 0, :] = cg[c - 1, 1, :]
-                    else:
-                        stats[0] += 1
-                        f0 = _point(i, tip, axis, px, py, p_z, dx, dy, dz, R, r, cg[c, 0])
-                    if j == i:
-                        f1 = f0
-                        cg[c, 1, :] = cg[c, 0, :]
-                    elif c + 1 < nc and done[c + 1] and mv_i[cm[c + 1]] == j:
-                        f1 = cf[c + 1, 0]
-                        cg[c, 1, :] = cg[c + 1, 0, :]
-                    else:
-                        stats[0] += 1
-                        f1 = _point(j, tip, axis, px, py, p_z, dx, dy, dz, R, r, cg[c, 1])
-                    done[c] = True
+                    lo, hi = 0.0, 1.0
+                    if best < _HALF and m != hint_m:
+                        lo, hi = _geo_spans(i, j, tip, axis, px, py, p_z, dx, dy, dz, best, R,
+                                            r, gs)
+                        if lo > hi:
+                            continue
+                    # a CL point's entry serves both moves that meet there; an end outside
+                    # [lo, hi] is not needed (its entry stays 0, a placeholder)
+                    f0 = f1 = 0.0
+                    if lo == 0.0:
+                        if c > 0 and have[c - 1, 1] and mv_j[cm[c - 1]] == i:
+                            f0 = cf[c - 1, 3]
+                            cg[c, 0, :] = cg[c - 1, 1, :]
+                        else:
+                            stats[0] += 1
+                            f0 = _point(i, tip, axis, px, py, p_z, dx, dy, dz, R, r, cg[c, 0])
+                        have[c, 0] = True
+                        cf[c, 1], cf[c, 2] = _end_slope(cg[c, 0], i, i, j, tip, axis)
+                    if hi == 1.0:
+                        if j == i:
+                            f1 = f0
+                            cg[c, 1, :] = cg[c, 0, :]
+                        elif c + 1 < nc and have[c + 1, 0] and mv_i[cm[c + 1]] == j:
+                            f1 = cf[c + 1, 0]
+                            cg[c, 1, :] = cg[c + 1, 0, :]
+                        else:
+                            stats[0] += 1
+                            f1 = _point(j, tip, axis, px, py, p_z, dx, dy, dz, R, r, cg[c, 1])
+                        have[c, 1] = True
+                        cf[c, 4], cf[c, 5] = _end_slope(cg[c, 1], j, i, j, tip, axis)
                     cf[c, 0] = f0
-                    cf[c, 1], cf[c, 2] = _end_slope(cg[c, 0], i, i, j, tip, axis)
                     cf[c, 3] = f1
-                    cf[c, 4], cf[c, 5] = _end_slope(cg[c, 1], j, i, j, tip, axis)
                     stats[1] += 1
-                    if min(f0, f1) < best:
-                        best, best_m, best_s = min(f0, f1), m, 0.0 if f0 <= f1 else 1.0
+                    if have[c, 0] and f0 < best:
+                        best, best_m, best_s = f0, m, 0.0
+                    if have[c, 1] and f1 < best:
+                        best, best_m, best_s = f1, m, 1.0
                     got, s_got = _move_min(i, j, tip, axis, px, py, p_z, dx, dy, dz, R, r,
                                            cf[c, 0], cf[c, 1], cf[c, 2], cf[c, 3], cf[c, 4],
                                            cf[c, 5], best, tol, bend_tol, near_miss, n_golden,
-                                           gs, stk, stats, hint_s if m == hint_m else -1.0)
+                                           gs, stk, stats, hint_s if m == hint_m else -1.0,
+                                           lo, hi)
                     if got < best:
                         best, best_m, best_s = got, m, s_got
                 res[iy, ix] = best if best < _HALF else INF

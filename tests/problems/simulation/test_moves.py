@@ -73,9 +73,10 @@ def test_a_turning_axis_bends_the_entry_and_the_bound_allows_for_it():
 
 
 @pytest.mark.parametrize("R, r", [(8.0, 3.0), (6.0, 6.0), (4.0, 0.0)])
-def test_span_bound_never_exceeds_the_entries_it_bounds(R, r):
-    # the geometric bound of a move cut into spans (what lets the sweep skip a move without
-    # computing an entry) must lie below every entry along the move that is below T
+def test_span_bounds_never_clear_a_stretch_that_cuts(R, r):
+    # the geometric bounds of a move cut into spans (what lets the sweep skip a move, or
+    # search only part of it, without computing an entry) must keep every pose that enters
+    # the ray below T within the stretch [lo, hi] they leave to search
     from evoplan.problems.toolpath.simulation.moves import _geo_spans
 
     tip = np.array([[0.0, 0.0, 0.0], [6.0, 1.0, 0.5]])
@@ -84,17 +85,17 @@ def test_span_bound_never_exceeds_the_entries_it_bounds(R, r):
     rng = np.random.default_rng(5)
     g, e = np.empty(6), np.empty(6)
     s = np.linspace(0.0, 1.0, 2001)
-    tight = 0
+    skipped = narrowed = 0
     for _ in range(300):
         p = np.r_[rng.uniform(-R - 1, 7 + R, 2), rng.uniform(-1.0, 1.0)]
         d = np.r_[rng.normal(0, 0.15, 2), 1.0]
         d /= np.linalg.norm(d)
         f = np.array([_at(si, 0, 1, tip, ax, *p, *d, R, r, g)[0] for si in s])
-        low = f.min()
-        T = low + rng.uniform(-0.5, 0.5)  # a best entry found elsewhere
-        b = _geo_spans(0, 1, tip, ax, *p, *d, T, R, r, e)
-        if low < T:  # the move cuts below T: the bound must not claim it cannot
-            assert not b >= T
-        elif b >= T:
-            tight += 1
-    assert tight > 0  # and it does skip moves that cannot cut below T
+        T = f.min() + rng.uniform(-0.5, 0.5)  # a best entry found elsewhere
+        lo, hi = _geo_spans(0, 1, tip, ax, *p, *d, T, R, r, e)
+        cuts = s[f < T]
+        if len(cuts):
+            assert lo <= cuts.min() and cuts.max() <= hi
+        skipped += lo > hi
+        narrowed += lo <= hi and hi - lo < 1.0
+    assert skipped > 0 and narrowed > 0  # and they do skip or narrow moves
