@@ -19,7 +19,7 @@ from numba import njit
 from .convex import _HALF, _axis_rate, _curl, _move_min, _slope
 from .kernel import INF, _entry, _ray, entry_gradient
 
-#: a move whose whole-move geometric bound fails is bounded again span by span
+#: a move whose whole-move geometric bound fails is bounded again over this many spans
 SPANS = 4
 
 
@@ -92,28 +92,28 @@ def _end_slope(g, k, i, j, tip, axis):
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
-def _geo_span(tix, tiy, tiz, aix, aiy, aiz, tjx, tjy, tjz, ajx, ajy, ajz, px, py, pz, dx, dy,
-              dz, e):
-    """What bounds the entry over the motion from pose (ti, ai) to pose (tj, aj) without
-    computing one: e = (U, w0 max, |w0| max, a . d min, a . d max, |d - (a . d) a| max) with U
-    a lower bound of the distance from the ray's start to the axis over the motion. The axis
-    turns by at most ``turn`` (chord of the axes), which moves any point at distance l from
-    the tip by at most l turn; it is added to every figure (see :func:`_geo_bound`)."""
-    ex, ey, ez = ajx - aix, ajy - aiy, ajz - aiz
+def _geo(i, j, tip, axis, px, py, pz, dx, dy, dz, e):
+    """What bounds the entry over move i -> j without computing one: e = (U, w0 max,
+    |w0| max, a . d min, a . d max, |d - (a . d) a| max) with U a lower bound of the
+    distance from the ray's start to the axis over the move. The axis turns by at most
+    ``turn`` (chord of the axes), which moves any point at distance l from the tip by at
+    most l turn; it is added to every figure (see :func:`_geo_bound`)."""
+    ex, ey, ez = axis[j, 0] - axis[i, 0], axis[j, 1] - axis[i, 1], axis[j, 2] - axis[i, 2]
     turn = math.sqrt(ex * ex + ey * ey + ez * ez)
-    qx, qy, qz = px - tix, py - tiy, pz - tiz
-    rx, ry, rz = px - tjx, py - tjy, pz - tjz
-    wi = qx * aix + qy * aiy + qz * aiz
-    wj = rx * aix + ry * aiy + rz * aiz
+    ax, ay, az = axis[i, 0], axis[i, 1], axis[i, 2]
+    qx, qy, qz = px - tip[i, 0], py - tip[i, 1], pz - tip[i, 2]
+    rx, ry, rz = px - tip[j, 0], py - tip[j, 1], pz - tip[j, 2]
+    wi = qx * ax + qy * ay + qz * az
+    wj = rx * ax + ry * ay + rz * az
     lmax = max(math.sqrt(qx * qx + qy * qy + qz * qz), math.sqrt(rx * rx + ry * ry + rz * rz))
     # distance from p to the tip's segment in the plane across the axis a_i
-    ux, uy, uz = qx - wi * aix, qy - wi * aiy, qz - wi * aiz
-    vx, vy, vz = (rx - wj * aix) - ux, (ry - wj * aiy) - uy, (rz - wj * aiz) - uz
+    ux, uy, uz = qx - wi * ax, qy - wi * ay, qz - wi * az
+    vx, vy, vz = (rx - wj * ax) - ux, (ry - wj * ay) - uy, (rz - wj * az) - uz
     vv = vx * vx + vy * vy + vz * vz
     lam = 0.0 if vv <= 0.0 else min(max(-(ux * vx + uy * vy + uz * vz) / vv, 0.0), 1.0)
     dd = math.sqrt((ux + lam * vx) ** 2 + (uy + lam * vy) ** 2 + (uz + lam * vz) ** 2)
-    da_i = dx * aix + dy * aiy + dz * aiz
-    da_j = dx * ajx + dy * ajy + dz * ajz
+    da_i = dx * ax + dy * ay + dz * az
+    da_j = dx * axis[j, 0] + dy * axis[j, 1] + dz * axis[j, 2]
     e[0] = dd - lmax * turn
     e[1] = max(wi, wj) + lmax * turn
     e[2] = max(abs(wi), abs(wj)) + lmax * turn
@@ -123,37 +123,47 @@ def _geo_span(tix, tiy, tiz, aix, aiy, aiz, tjx, tjy, tjz, ajx, ajy, ajz, px, py
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
-def _geo(i, j, tip, axis, px, py, pz, dx, dy, dz, e):
-    """:func:`_geo_span` over the whole move i -> j."""
-    _geo_span(tip[i, 0], tip[i, 1], tip[i, 2], axis[i, 0], axis[i, 1], axis[i, 2],
-              tip[j, 0], tip[j, 1], tip[j, 2], axis[j, 0], axis[j, 1], axis[j, 2],
-              px, py, pz, dx, dy, dz, e)
-
-
-@njit(cache=True, nogil=True, error_model="numpy")
-def _geo_spans(i, j, tip, axis, px, py, pz, dx, dy, dz, T, R, r, e):
+def _geo_spans(i, j, tip, axis, px, py, pz, T, R, r, whole, e):
     """(lo, hi): the stretch of move i -> j (in s) outside which it cannot cut below T, from
     :func:`_geo_bound` over the move cut into ``SPANS`` equal spans; lo > hi where no span
     can. Over a whole move the height of the ray's start above the tip plane changes by the
-    lead times the move's length, and the axis turns; the whole-move figures take the worst
-    of both, a span's far less."""
+    lead times the move's length, and the axis turns; the whole-move figures (``whole``, of
+    :func:`_geo`) take the worst of both, a span's far less (each span's U, w0 and turn as
+    :func:`_geo` finds them for the move, the ray's direction figures of the whole move)."""
     vx, vy, vz = tip[j, 0] - tip[i, 0], tip[j, 1] - tip[i, 1], tip[j, 2] - tip[i, 2]
     wx, wy, wz = axis[j, 0] - axis[i, 0], axis[j, 1] - axis[i, 1], axis[j, 2] - axis[i, 2]
+    e[3], e[4], e[5] = whole[3], whole[4], whole[5]
     lo, hi = 1.0, 0.0
     bx, by, bz = axis[i, 0], axis[i, 1], axis[i, 2]
     nb = 1.0 / math.sqrt(bx * bx + by * by + bz * bz)
     bx, by, bz = bx * nb, by * nb, bz * nb
+    rx, ry, rz = px - tip[i, 0], py - tip[i, 1], pz - tip[i, 2]
+    lr = math.sqrt(rx * rx + ry * ry + rz * rz)
     for k in range(SPANS):
-        s0, s1 = k / SPANS, (k + 1.0) / SPANS
+        s1 = (k + 1.0) / SPANS
         ax, ay, az = bx, by, bz
         bx, by, bz = axis[i, 0] + s1 * wx, axis[i, 1] + s1 * wy, axis[i, 2] + s1 * wz
         nb = 1.0 / math.sqrt(bx * bx + by * by + bz * bz)
         bx, by, bz = bx * nb, by * nb, bz * nb
-        _geo_span(tip[i, 0] + s0 * vx, tip[i, 1] + s0 * vy, tip[i, 2] + s0 * vz, ax, ay, az,
-                  tip[i, 0] + s1 * vx, tip[i, 1] + s1 * vy, tip[i, 2] + s1 * vz, bx, by, bz,
-                  px, py, pz, dx, dy, dz, e)
+        tx, ty, tz = ax - bx, ay - by, az - bz
+        turn = math.sqrt(tx * tx + ty * ty + tz * tz)
+        # the ray's start from the span's two tips (q, then r), in the frame of its first axis
+        qx, qy, qz, lq = rx, ry, rz, lr
+        rx, ry, rz = px - tip[i, 0] - s1 * vx, py - tip[i, 1] - s1 * vy, pz - tip[i, 2] - s1 * vz
+        lr = math.sqrt(rx * rx + ry * ry + rz * rz)
+        wi = qx * ax + qy * ay + qz * az
+        wj = rx * ax + ry * ay + rz * az
+        ux, uy, uz = qx - wi * ax, qy - wi * ay, qz - wi * az
+        cx, cy, cz = (rx - wj * ax) - ux, (ry - wj * ay) - uy, (rz - wj * az) - uz
+        cc = cx * cx + cy * cy + cz * cz
+        lam = 0.0 if cc <= 0.0 else min(max(-(ux * cx + uy * cy + uz * cz) / cc, 0.0), 1.0)
+        dd = math.sqrt((ux + lam * cx) ** 2 + (uy + lam * cy) ** 2 + (uz + lam * cz) ** 2)
+        lt = max(lq, lr) * turn
+        e[0] = dd - lt
+        e[1] = max(wi, wj) + lt
+        e[2] = max(abs(wi), abs(wj)) + lt
         if not _geo_bound(e, T, R, r) >= T:  # (nan where the ray runs along the axis)
-            lo, hi = min(lo, s0), s1
+            lo, hi = min(lo, s1 - 1.0 / SPANS), s1
     return lo, hi
 
 
@@ -240,8 +250,8 @@ def sweep_moves(res, x0, y0, h, pz, nrm, inside, vertical, tip, axis, mv_i, mv_j
                     i, j = mv_i[m], mv_j[m]
                     lo, hi = 0.0, 1.0
                     if best < _HALF and m != hint_m:
-                        lo, hi = _geo_spans(i, j, tip, axis, px, py, p_z, dx, dy, dz, best, R,
-                                            r, gs)
+                        lo, hi = _geo_spans(i, j, tip, axis, px, py, p_z, best, R, r, geo[c],
+                                            gs)
                         if lo > hi:
                             continue
                     # a CL point's entry serves both moves that meet there; an end outside

@@ -77,7 +77,7 @@ def test_span_bounds_never_clear_a_stretch_that_cuts(R, r):
     # the geometric bounds of a move cut into spans (what lets the sweep skip a move, or
     # search only part of it, without computing an entry) must keep every pose that enters
     # the ray below T within the stretch [lo, hi] they leave to search
-    from evoplan.problems.toolpath.simulation.moves import _geo_spans
+    from evoplan.problems.toolpath.simulation.moves import _geo, _geo_spans
 
     tip = np.array([[0.0, 0.0, 0.0], [6.0, 1.0, 0.5]])
     ax = np.array([[0.05, -0.03, 1.0], [0.14, 0.03, 1.0]])
@@ -92,7 +92,9 @@ def test_span_bounds_never_clear_a_stretch_that_cuts(R, r):
         d /= np.linalg.norm(d)
         f = np.array([_at(si, 0, 1, tip, ax, *p, *d, R, r, g)[0] for si in s])
         T = f.min() + rng.uniform(-0.5, 0.5)  # a best entry found elsewhere
-        lo, hi = _geo_spans(0, 1, tip, ax, *p, *d, T, R, r, e)
+        whole = np.empty(6)
+        _geo(0, 1, tip, ax, *p, *d, whole)
+        lo, hi = _geo_spans(0, 1, tip, ax, *p, T, R, r, whole, e)
         cuts = s[f < T]
         if len(cuts):
             assert lo <= cuts.min() and cuts.max() <= hi
