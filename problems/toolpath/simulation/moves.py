@@ -228,11 +228,11 @@ def sweep_moves(res, x0, y0, h, pz, nrm, inside, vertical, tip, axis, mv_i, mv_j
                     m = tile_mv[q]
                     i, j = mv_i[m], mv_j[m]
                     reach = mv_reach[m]
-                    if _seg_dist2(px, py, tip[i, 0], tip[i, 1], tip[j, 0], tip[j, 1]) > reach * reach:
+                    d2 = _seg_dist2(px, py, tip[i, 0], tip[i, 1], tip[j, 0], tip[j, 1])
+                    if d2 > reach * reach:
                         continue
                     cm[nc] = m
-                    _geo(i, j, tip, axis, px, py, p_z, dx, dy, dz, geo[nc])
-                    key[nc] = -INF if m == hint_m else _geo_bound(geo[nc], 0.0, R, r)
+                    key[nc] = -INF if m == hint_m else d2
                     have[nc, 0] = have[nc, 1] = False
                     order[nc] = nc
                     k = nc
@@ -240,20 +240,23 @@ def sweep_moves(res, x0, y0, h, pz, nrm, inside, vertical, tip, axis, mv_i, mv_j
                         order[k - 1], order[k] = order[k], order[k - 1]
                         k -= 1
                     nc += 1
-                # nearest moves first; a move whose geometric bound is above the best entry
-                # found so far is skipped without computing any entry
+                # the previous cell's deepest move first, then the nearest in XY; a move
+                # whose geometric bound is above the best entry found so far is skipped
+                # without computing any entry
                 for o in range(nc):
                     c = order[o]
                     m = cm[c]
-                    if _geo_bound(geo[c], best, R, r) >= best:
-                        continue
                     i, j = mv_i[m], mv_j[m]
                     lo, hi = 0.0, 1.0
-                    if best < _HALF and m != hint_m:
-                        lo, hi = _geo_spans(i, j, tip, axis, px, py, p_z, best, R, r, geo[c],
-                                            gs)
-                        if lo > hi:
+                    if best < _HALF:
+                        _geo(i, j, tip, axis, px, py, p_z, dx, dy, dz, geo[c])
+                        if _geo_bound(geo[c], best, R, r) >= best:
                             continue
+                        if m != hint_m:
+                            lo, hi = _geo_spans(i, j, tip, axis, px, py, p_z, best, R, r,
+                                                geo[c], gs)
+                            if lo > hi:
+                                continue
                     # a CL point's entry serves both moves that meet there; an end outside
                     # [lo, hi] is not needed (its entry stays 0, a placeholder)
                     f0 = f1 = 0.0
