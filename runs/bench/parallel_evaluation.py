@@ -5,18 +5,24 @@ An expensive black box is simulated by a sphere that sleeps 0.1 s per evaluation
 timed with the serial ``Evaluator`` and with ``ParallelEvaluator`` on a local Dask cluster of
 ``--workers`` workers; the best values must be identical.
 
-    PYTHONPATH=. python runs/bench/parallel_evaluation.py [--workers 2] [--backend dask]
+    python runs/bench/parallel_evaluation.py [--workers 2] [--backend dask|processes]
+
+(The black box lives in the test suite's package, which the script puts on the path.)
 """
 
 from __future__ import annotations
 
 import argparse
+import sys
 import time
+from pathlib import Path
 
-from evoplan.config import parse_config
-from evoplan.engine import run
-from evoplan.parallel import ParallelEvaluator, open_pool
-from evoplan.runner import prepare
+sys.path.insert(0, str(Path(__file__).resolve().parents[2]))  # the repository: tests.study
+
+from evoplan.config import parse_config  # noqa: E402
+from evoplan.engine import run  # noqa: E402
+from evoplan.parallel import ParallelEvaluator, open_pool  # noqa: E402
+from evoplan.runner import prepare  # noqa: E402
 
 
 def timed_run(evaluator_for) -> tuple[float, float, int]:
