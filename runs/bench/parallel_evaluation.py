@@ -19,10 +19,10 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2]))  # the repository: tests.study
 
-from evoplan.config import parse_config  # noqa: E402
-from evoplan.engine import run  # noqa: E402
-from evoplan.parallel import ParallelEvaluator, open_pool  # noqa: E402
-from evoplan.runner import prepare  # noqa: E402
+from evoplan.config import parse_config
+from evoplan.engine import run
+from evoplan.parallel import ParallelEvaluator, open_pool
+from evoplan.runner import prepare
 
 
 def timed_run(evaluator_for) -> tuple[float, float, int]:
