@@ -157,8 +157,8 @@ def sweep_path(path: CLPath, grid: DesignGrid, *, vertical: bool = False, method
     pose misses by less; ``tile_mm``: the side of the tiles that list the moves. Measured
     on Fountas' part (0.2 mm grid, ``runs/bench/simulation_accuracy.py``) against the stamp
     sweep with poses 0.05 mm apart, 6 slots, refined to 2e-4 mm of travel: torus D16 r3
-    (the VEGA set) and ball D12 within 1e-5 mm, flat D8 within 4e-5 mm, on every cell
-    (the stamp sweep at its defaults: 1.3e-3 / 6.8e-4 / 1.8e-3 mm). A ray that only
+    (the VEGA set) and ball D12 within 5e-6 mm, flat D8 within 1.5e-5 mm, on every cell
+    (about the search's tolerance and the reference's own error). A ray that only
     grazes the rim far above the part (entries over ~1 mm) may stop at the search's 60
     entries a few um off.
 
