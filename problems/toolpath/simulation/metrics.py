@@ -26,7 +26,7 @@ KEYS = ("scallop_max_mm", "scallop_mean_mm", "scallop_p50_mm", "scallop_p90_mm",
 
 
 def _weighted_quantiles(values: np.ndarray, weights: np.ndarray, qs) -> list[float]:
-    order = np.argsort(values, kind="stable")
+    order = np.argsort(values)  # ties hold equal values: their order does not matter
     v, w = values[order], weights[order]
     cw = np.cumsum(w)
     return [float(v[min(np.searchsorted(cw, q * cw[-1]), len(v) - 1)]) for q in qs]
