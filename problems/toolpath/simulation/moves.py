@@ -1,11 +1,15 @@
 """The sweep by moves over the grid: every cell, every feed move that can reach it.
 
-The cells are visited tile by tile; each tile lists the moves whose reach (the XY radius
-around the tip's segment within which the cutter can cut) touches it. For each cell the
-moves are taken nearest first, and a move is skipped without computing any entry when a
-geometric bound (:func:`_geo_bound`: the cutter lies above its tip plane and above its
-lower profile at the ray's least distance from the axis) shows it cannot cut below the best
-entry found so far. Otherwise its ends are evaluated (a CL point's entry and gradient serve
+The cells are visited tile by tile, row by row; each tile lists the moves whose reach (the
+XY radius around the tip's segment within which the cutter can cut) touches it. For each
+cell the move that gave the previous cell its deepest entry goes first (searched from that
+cell's pose; the first cell of a row follows the row above), then the others nearest first
+in XY. A move is skipped without computing any entry when a geometric bound
+(:func:`_geo_bound`: the cutter lies above its tip plane and above its lower profile at the
+ray's least distance from the axis) shows it cannot cut below the best entry found so far;
+where the bound over the whole move fails, it is taken again over spans of the move
+(:func:`_geo_spans`), which may still skip it or leave only a stretch [lo, hi] to search.
+Otherwise the ends within that stretch are evaluated (a CL point's entry and gradient serve
 both moves that meet there) and ``convex._move_min`` searches it.
 """
 
