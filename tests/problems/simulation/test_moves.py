@@ -10,14 +10,20 @@ from evoplan.problems.toolpath.problem import ToolpathProblem
 from evoplan.problems.toolpath.simulation import analytic_grid, design_grid, sweep_path
 from evoplan.problems.toolpath.simulation.convex import _at
 from evoplan.problems.toolpath.simulation.kernel import MISS
+from evoplan.problems.toolpath.simulation.moves import _geo, _geo_spans
+
+
+def _turning_move(end_tip, end_axis):
+    """Tips and unit axes of a move from the origin, axis (0.05, -0.03, 1), that shifts and
+    turns the cutter."""
+    tip = np.array([[0.0, 0.0, 0.0], end_tip])
+    ax = np.array([[0.05, -0.03, 1.0], end_axis])
+    return tip, ax / np.linalg.norm(ax, axis=1, keepdims=True)
 
 
 @pytest.mark.parametrize("R, r", [(8.0, 3.0), (6.0, 6.0), (4.0, 0.0)])
 def test_entry_slope_is_the_derivative_along_the_move(R, r):
-    # a move that shifts and turns the cutter: tips and axes at its two ends
-    tip = np.array([[0.0, 0.0, 0.0], [5.0, 1.0, 0.4]])
-    ax = np.array([[0.05, -0.03, 1.0], [0.12, 0.02, 1.0]])
-    ax /= np.linalg.norm(ax, axis=1, keepdims=True)
+    tip, ax = _turning_move([5.0, 1.0, 0.4], [0.12, 0.02, 1.0])
     rng = np.random.default_rng(3)
     g = np.empty(6)
     checked = 0
@@ -77,11 +83,7 @@ def test_span_bounds_never_clear_a_stretch_that_cuts(R, r):
     # the geometric bounds of a move cut into spans (what lets the sweep skip a move, or
     # search only part of it, without computing an entry) must keep every pose that enters
     # the ray below T within the stretch [lo, hi] they leave to search
-    from evoplan.problems.toolpath.simulation.moves import _geo, _geo_spans
-
-    tip = np.array([[0.0, 0.0, 0.0], [6.0, 1.0, 0.5]])
-    ax = np.array([[0.05, -0.03, 1.0], [0.14, 0.03, 1.0]])
-    ax /= np.linalg.norm(ax, axis=1, keepdims=True)
+    tip, ax = _turning_move([6.0, 1.0, 0.5], [0.14, 0.03, 1.0])
     rng = np.random.default_rng(5)
     g, e = np.empty(6), np.empty(6)
     s = np.linspace(0.0, 1.0, 2001)
