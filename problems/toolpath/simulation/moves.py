@@ -205,7 +205,7 @@ def sweep_moves(res, x0, y0, h, pz, nrm, inside, vertical, tip, axis, mv_i, mv_j
     key = np.empty(n_max)
     order = np.empty(n_max, np.int64)
     stk = np.empty((64, 9))
-    geo = np.empty((n_max, 6))
+    geo = np.empty(6)  # the figures of the move being tested (:func:`_geo`)
     cg = np.empty((n_max, 2, 6))
     have = np.zeros((n_max, 2), np.bool_)  # the entries at a candidate's ends computed
     gs = np.empty(6)
@@ -253,12 +253,12 @@ def sweep_moves(res, x0, y0, h, pz, nrm, inside, vertical, tip, axis, mv_i, mv_j
                     i, j = mv_i[m], mv_j[m]
                     lo, hi = 0.0, 1.0
                     if best < _HALF:
-                        _geo(i, j, tip, axis, px, py, p_z, dx, dy, dz, geo[c])
-                        if _geo_bound(geo[c], best, R, r) >= best:
+                        _geo(i, j, tip, axis, px, py, p_z, dx, dy, dz, geo)
+                        if _geo_bound(geo, best, R, r) >= best:
                             continue
                         if m != hint_m:
                             lo, hi = _geo_spans(i, j, tip, axis, px, py, p_z, best, R, r,
-                                                geo[c], gs)
+                                                geo, gs)
                             if lo > hi:
                                 continue
                     # a CL point's entry serves both moves that meet there; an end outside
