@@ -119,7 +119,7 @@ def _move_min(i, j, tip, axis, px, py, pz, dx, dy, dz, R, r, fa, sa, na, fb, sb,
     (else best, -1) and where it is. fa, sa, na / fb, sb, nb: entry, slope and 1 / cos at
     the ends (see the module doc); s0 in (0, 1): where to try first (the neighbouring
     cell's deepest pose); [lo, hi]: the stretch outside which the move cannot cut below
-    best (searched alone where both ends hit).
+    best, the only one searched (fa ... nb then hold placeholders for an end outside it).
 
     Branch and bound over sub-intervals of the move, each bounded by :func:`_bound` with
     kap, a bound of how far the turning axis bends f away from convex (the cutter frame
@@ -130,36 +130,35 @@ def _move_min(i, j, tip, axis, px, py, pz, dx, dy, dz, R, r, fa, sa, na, fb, sb,
         return best, s_best
     vx, vy, vz = tip[j, 0] - tip[i, 0], tip[j, 1] - tip[i, 1], tip[j, 2] - tip[i, 2]
     vlen = math.sqrt(vx * vx + vy * vy + vz * vz)
-    n = 0
+    # only [lo, hi] can cut below best (the spans' geometric bounds): its ends
+    if lo > 0.0:
+        fa, sa, na = _at(lo, i, j, tip, axis, px, py, pz, dx, dy, dz, R, r, g)
+        stats[2] += 1
+        if fa < best:
+            best, s_best = fa, lo
+    if hi < 1.0:
+        fb, sb, nb = _at(hi, i, j, tip, axis, px, py, pz, dx, dy, dz, R, r, g)
+        stats[2] += 1
+        if fb < best:
+            best, s_best = fb, hi
     if fa >= _HALF and fb >= _HALF:
         # both ends miss: try where the tip passes closest to the cell (in XY)
         vv = vx * vx + vy * vy
-        sc = 0.5 if vv <= 0.0 else min(max(((px - tip[i, 0]) * vx + (py - tip[i, 1]) * vy) / vv,
-                                            0.0), 1.0)
+        sc = 0.5 * (lo + hi) if vv <= 0.0 else min(max(
+            ((px - tip[i, 0]) * vx + (py - tip[i, 1]) * vy) / vv, lo), hi)
         f, sl, nu = _at(sc, i, j, tip, axis, px, py, pz, dx, dy, dz, R, r, g)
         if f >= _HALF:
             if f - MISS > near_miss:
                 return best, s_best
             stats[3] += 1
-            return min(best, _golden(float(i), float(i) + 1.0, i, i + 1, tip, axis, px, py,
-                                     pz, dx, dy, dz, R, r, n_golden)), s_best
+            return min(best, _golden(i + lo, i + hi, i, i + 1, tip, axis, px, py, pz, dx, dy,
+                                     dz, R, r, n_golden)), s_best
         if f < best:
             best, s_best = f, sc
-        stk[0, :] = (0.0, sc, fa, sa, nu, f, sl, nu, 0.0)
-        stk[1, :] = (sc, 1.0, f, sl, nu, fb, sb, nu, 0.0)
+        stk[0, :] = (lo, sc, fa, sa, nu, f, sl, nu, 0.0)
+        stk[1, :] = (sc, hi, f, sl, nu, fb, sb, nu, 0.0)
         n = 2
     else:
-        # only [lo, hi] can cut below best (the spans' geometric bounds): search that
-        if lo > 0.0:
-            fa, sa, na = _at(lo, i, j, tip, axis, px, py, pz, dx, dy, dz, R, r, g)
-            stats[2] += 1
-            if fa < best:
-                best, s_best = fa, lo
-        if hi < 1.0:
-            fb, sb, nb = _at(hi, i, j, tip, axis, px, py, pz, dx, dy, dz, R, r, g)
-            stats[2] += 1
-            if fb < best:
-                best, s_best = fb, hi
         stk[0, :] = (lo, hi, fa, sa, na, fb, sb, nb, 0.0)
         n = 1
     evals = 0

@@ -103,3 +103,16 @@ def test_span_bounds_never_clear_a_stretch_that_cuts(R, r):
         skipped += lo > hi
         narrowed += lo <= hi and hi - lo < 1.0
     assert skipped > 0 and narrowed > 0  # and they do skip or narrow moves
+
+
+def test_a_rim_that_only_grazes_the_cell_mid_move_still_cuts():
+    # a flat end passes 3.97-3.99 mm beside the cells, so its rim reaches them only over a
+    # short stretch in the middle of the move, and a higher pass nearby gives them a first,
+    # shallower entry: the spans leave the middle of the move to search, whose ends miss
+    R = 4.0
+    tips = np.array([[0.0, 0.0, 0.0], [24.0, 0.0, 0.0], [0.0, 5.0, 0.5], [24.0, 5.0, 0.5]])
+    path = CLPath(tips, np.tile([0.0, 0.0, 1.0], (4, 1)), 2 * R, 0.0, section=np.array([0, 0, 1, 1]))
+    g = analytic_grid(lambda x, y: 0 * x, lambda x, y: (0 * x, 0 * x), (11.0, 13.0, 3.96, 4.0), 0.01)
+    got = sweep_path(path, g).values
+    assert g.inside.sum() >= 200
+    assert np.abs(got[g.inside]).max() < 1e-9  # the rim's flat bottom, not the pass 0.5 up
