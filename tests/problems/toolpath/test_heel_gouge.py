@@ -10,7 +10,7 @@ from evoplan.problems.toolpath.criteria.heel import pose_gouge
 from evoplan.problems.toolpath.cutters import make_cutter
 from evoplan.problems.toolpath.geometry.surface import unit_normal
 from evoplan.problems.toolpath.problem import ToolpathProblem
-from evoplan.problems.toolpath.simulation import design_grid, sweep_path
+from evoplan.problems.toolpath.simulation import simulate
 
 CUTTERS = [make_cutter(16, 0), make_cutter(16, 3), make_cutter(16, 8)]
 NORM = {"machining_error": [0, 0.5], "cc_count": [0, 1000]}
@@ -104,20 +104,13 @@ def _trough_net(rho, half, width):
     return [[[x, y, z] for x, z in pts] for y in (0.0, width)]
 
 
-def _simulated_gouge(problem, params, grid_mm):
-    path = problem.cl_path(params)[0]
-    grid = design_grid(problem.surface, grid_mm)
-    res = sweep_path(path, grid).values
-    return -float(np.min(np.where(grid.inside & np.isfinite(res), res, np.inf)))
-
-
 @pytest.mark.parametrize("rho, tool", [(150.0, 3), (100.0, 6)])  # flat D16; torus D16 r3
 def test_analytic_gouge_on_a_trough_along_the_feed_matches_the_cut_simulation(rho, tool):
     pr = ToolpathProblem(surface={"type": "bezier", "poles": _trough_net(rho, 0.35, 40.0)},
                          normalization=NORM)
     params = dict(tool=tool, stepover=30, lead=2.0, tilt=0.0, step=5)
     crit = pr.evaluate_params(params)
-    sim = _simulated_gouge(pr, params, 0.2)
+    sim = simulate(pr.cl_path(params)[0], pr.surface, 0.2).metrics["gouge_max_mm"]
     assert sim > 0.1
     assert crit["gouge_max"] == pytest.approx(sim, rel=0.15)
     assert crit["machining_error"] >= crit["gouge_max"]
@@ -133,6 +126,6 @@ def test_fountas_leaned_flat_end_gouge_matches_the_cut_simulation():
     pr = ToolpathProblem(tools=tools, feed_angle=168.0, normalization=NORM)
     params = dict(tool=3, stepover=43.721, lead=4.366, tilt=0.028, step=9.411)
     crit = pr.evaluate_params(params)
-    sim = _simulated_gouge(pr, params, 0.2)
+    sim = simulate(pr.cl_path(params)[0], pr.surface, 0.2).metrics["gouge_max_mm"]
     assert sim > 0.15
     assert crit["gouge_max"] == pytest.approx(sim, rel=0.15)
