@@ -27,9 +27,8 @@ from pymoo.core.problem import Problem
 from .checks import number
 from .criteria.analytic import ANALYTIC, analytic_criteria
 from .criteria.objective import (
-    bounds_from_sample, normalize, parse_bounds, parse_weights, weighted_sum,
+    bounds_from_sample, normalize, parse_bounds, parse_objectives, parse_weights, weighted_sum,
 )
-from .criteria.table import check_name
 from .genes import DEFAULT_RANGES, GENE_ORDER, PARAM_NAMES, GeneSpace
 from .geometry.spec import parse_surface
 from .strategy import absent_genes, build_planner
@@ -84,7 +83,7 @@ class ToolpathProblem(Problem):
             zone_gene=layouts.method.gene, zone_range=self._zone_range,
             zone_value=self._zone_value)
         self.weights = parse_weights(weights, "weights")
-        self.objectives = self._objectives(objectives)
+        self.objectives = None if objectives is None else parse_objectives(objectives)
         if criteria not in ("analytic", "simulated"):
             raise ValueError(f"criteria: expected analytic or simulated, got {criteria!r}")
         self.simulated = None
@@ -120,15 +119,6 @@ class ToolpathProblem(Problem):
             method.settings({method.gene.setting: int(value) if method.gene.integer else value})
         except ValueError as e:
             raise ValueError(f"{key}: {str(e).split(': ', 1)[-1]}") from None
-
-    @staticmethod
-    def _objectives(objectives):
-        if objectives is None:
-            return None
-        if isinstance(objectives, str) or not isinstance(objectives, (list, tuple)) \
-                or not objectives:
-            raise ValueError(f"objectives: expected a list of criteria, got {objectives!r}")
-        return [check_name(k, "objectives", weightable=True) for k in objectives]
 
     @property
     def fixed(self) -> dict:

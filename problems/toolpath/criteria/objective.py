@@ -4,8 +4,8 @@ ObjFcn_ws = w_1 Crt_1 + ... + w_n Crt_n,  sum w_i = 1, 0 <= w_i <= 1   (Eq. 9)
 
 Each criterion is normalized as (value - lo) / (hi - lo) with the paper's "minimum and
 maximum values of the single criteria". Here the bounds are computed ONCE, when the problem
-is built, from a fixed design over the parameter box (:func:`normalization_design`): every
-tool at the 16 corners and the centre of the four continuous ranges, plus a seeded uniform
+is built, from a fixed design over the free genes (``GeneSpace.design`` in ``genes.py``):
+every tool at the corners and the centre of the other free ranges, plus a seeded uniform
 sample; they never drift with the population. Values outside the design's range fall
 outside [0, 1] (not clipped, so the ordering is kept). Bounds can also be given explicitly.
 
@@ -15,21 +15,15 @@ cc_count 0.5. Every criterion is minimized.
 
 from __future__ import annotations
 
-import itertools
-
 import numpy as np
 
 from ..checks import interval, number
-from .table import canonical, check_name, names
+from .table import canonical, check_name
 
-__all__ = ["DEFAULT_WEIGHTS", "OBJECTIVE_CRITERIA", "parse_weights", "parse_objectives",
-           "parse_bounds", "normalization_design", "bounds_from_sample", "normalize",
-           "weighted_sum"]
+__all__ = ["DEFAULT_WEIGHTS", "parse_weights", "parse_objectives", "parse_bounds",
+           "bounds_from_sample", "normalize", "weighted_sum"]
 
 DEFAULT_WEIGHTS = {"machining_error": 0.5, "cc_count": 0.5}
-
-#: criteria that may be weighted: the table's weightable ones (``criteria/table.py``)
-OBJECTIVE_CRITERIA = names(weightable=True)
 
 
 def _criterion(name, key: str, seen) -> str:
@@ -63,7 +57,7 @@ def parse_weights(weights=None, key: str = "weights") -> dict[str, float]:
 
 def parse_objectives(objectives, key: str = "objectives") -> list[str]:
     """A list of weightable criteria (aliases resolved, no repeats) for a multi-objective F."""
-    if isinstance(objectives, (str, dict)) or not objectives:
+    if not isinstance(objectives, (list, tuple)) or not objectives:
         raise ValueError(f"{key}: expected a list of criteria, got {objectives!r}")
     out: list[str] = []
     for i, name in enumerate(objectives):
@@ -85,20 +79,6 @@ def parse_bounds(bounds, names, key: str = "normalization") -> dict[str, tuple[f
             raise ValueError(f"{key}.{name}: not a weighted criterion ({', '.join(names)})")
         out[crit] = interval(b, f"{key}.{name}")
     return out
-
-
-def normalization_design(n_tools: int, lo, hi, n_random: int = 64, seed: int = 0) -> np.ndarray:
-    """Fixed design X (m, 5): each tool index x (corners + centre of the 4 continuous
-    ranges), plus ``n_random`` seeded uniform points over the whole box."""
-    lo = np.asarray(lo, float)
-    hi = np.asarray(hi, float)
-    corners = np.array(list(itertools.product(*[(lo[i], hi[i]) for i in range(1, 5)])))
-    cont = np.vstack([corners, (lo[1:] + hi[1:]) / 2])
-    grid = np.vstack([np.column_stack([np.full(len(cont), t), cont]) for t in range(n_tools)])
-    rng = np.random.default_rng(seed)
-    rand = lo + rng.random((n_random, 5)) * (hi - lo)
-    rand[:, 0] = rng.integers(0, n_tools, n_random)
-    return np.vstack([grid, rand])
 
 
 def bounds_from_sample(criteria: dict, names) -> dict[str, tuple[float, float]]:

@@ -6,7 +6,10 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+import yaml
 from toolpath_analytic import Plane
+
+from evoplan.cli import main
 
 from evoplan.problems.toolpath.criteria.objective import (
     parse_bounds, parse_objectives, parse_weights, weighted_sum,
@@ -60,6 +63,24 @@ def test_the_old_total_length_is_the_eq4_total():
     crit = {"eq4_total": np.array([100.0, 150.0, 200.0])}
     w = parse_weights({"total_length": 1.0})
     np.testing.assert_allclose(weighted_sum(crit, w, {"eq4_total": (100.0, 200.0)}), [0, 0.5, 1])
+
+
+def test_a_run_with_an_objective_given_twice_is_refused_in_one_line(tmp_path, capsys):
+    """``total_length`` is the old name of ``eq4_total``: two identical objectives are one
+    ``evoplan: error`` line naming the entry, exit 2, no run folder."""
+    path = tmp_path / "dup.yaml"
+    path.write_text(yaml.safe_dump({
+        "seed": 1, "algorithm": {"name": "nsga2", "pop_size": 8},
+        "termination": {"generations": 2},
+        "problem": {"name": "toolpath", "params": {
+            "objectives": ["total_length", "eq4_total"],
+            "normalization": {"eq4_total": [0, 1]}}}}))
+    out = tmp_path / "out"
+    assert main(["run", str(path), "--out", str(out), "--quiet"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"evoplan: error: {path}: ") and err.count("\n") == 1, err
+    assert err.rstrip().endswith("objectives[1]: eq4_total is given twice"), err
+    assert not out.exists()
 
 
 def test_the_cut_simulation_measures_the_criteria_flagged_simulated():
