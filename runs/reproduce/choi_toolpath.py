@@ -31,12 +31,7 @@ from evoplan.problems.toolpath.plan.zoning.merge import MergeSettings
 from evoplan.problems.toolpath.plan.zoning.passes import zone_passes
 from evoplan.problems.toolpath.zoned import CHOI_TOOLS
 from evoplan.problems.toolpath.plan.zoning.stepover import ScallopTarget, plane_spacing
-from evoplan.problems.toolpath.simulation import (
-    cell_labels,
-    design_grid,
-    residual_metrics,
-    sweep_path,
-)
+from evoplan.problems.toolpath.simulation import design_grid, residual_metrics, simulate
 from evoplan.problems.toolpath.simulation.figures import deviation_map_png
 from evoplan.problems.toolpath.tools import parse_tools
 from scipy import ndimage
@@ -141,21 +136,20 @@ def run_case(pl: Planner, grid, interior, method, tool, value) -> dict:
     batch = pl.plan(genes, place=False)
     path = pl.cl_path(genes)
     t_plan = time.perf_counter() - t0
-    res = sweep_path(path, grid)
-    m = residual_metrics(grid, res.values, allowance=ALLOWANCE)
-    inner = residual_metrics(grid, res.values, allowance=ALLOWANCE, mask=interior)
+    layout = pl.layouts.get(0.0 if value is None else value, tool)
+    sim = simulate(path, grid, allowance=ALLOWANCE, mesh_labels=layout.labels)
+    inner = residual_metrics(grid, sim.residual.values, allowance=ALLOWANCE, mask=interior)
     zones = int(batch.zones[0])
     cut = float(batch.seg_len.sum())
     on_part = on_part_length(batch)
-    layout = pl.layouts.get(0.0 if value is None else value, tool)
     return {"method": method, "tool": tool, "value": value, "zones": zones, "cut": cut,
             "on_part": on_part, "feed": path.feed_length(),
             "eq4": cut + (zones - 1) * DELTA_L,
             "cc": len(batch.u), "cl": len(path), "sections": len(batch.sec_d),
             "directions": [round(float(np.degrees(a))) % 180 for a in layout.alpha],
-            "plan_s": t_plan, "sim_s": time.perf_counter() - t0 - t_plan, **m,
+            "plan_s": t_plan, "sim_s": time.perf_counter() - t0 - t_plan, **sim.metrics,
             "inner_max": inner["scallop_max_mm"],
-            "residual": res.values, "labels": layout.labels}
+            "residual": sim.residual.values, "cells": sim.labels}
 
 
 def breakdown(pl: Planner, tool, value) -> dict:
@@ -206,8 +200,9 @@ VARIANTS = [("h_c x 1.05 in the planner", 1.05, "default"), ("h_c x 1.1", 1.1, "
             ("no merging", 1.0, "raw"), ("merging, zones >= 20 % of the area", 1.0, "0.2")]
 
 
-def analysis(surface, tools, grid, interior, memo) -> list[str]:
-    """The length breakdown and the levers' tables (torus r 1)."""
+def analysis(surface, tools, grid, interior, memo, done) -> list[str]:
+    """The length breakdown and the levers' tables (torus r 1); ``done``: the cases the
+    main table already ran, by (method, tool, value)."""
     head = ("| plan | zones | local-spacing floor | binned worst-point plan | real sections on "
             "the part | the same, directions by the real sections | cut (with edge runs) | "
             "Eq. 4 |")
@@ -218,7 +213,8 @@ def analysis(surface, tools, grid, interior, memo) -> list[str]:
     for method, value in ANALYSED:
         name = f"{'K-means K' if method == 'kmeans' else 'AMAS k_LZ'}={value}"
         pl = planner(surface, tools, method, memo)
-        b, r = breakdown(pl, 1, value), run_case(pl, grid, interior, method, 1, value)
+        b = breakdown(pl, 1, value)
+        r = done.get((method, 1, value)) or run_case(pl, grid, interior, method, 1, value)
         out.append(f"| {name} | {r['zones']} | {b['floor']:.0f} | {b['binned']:.0f} | "
                    f"{r['on_part']:.0f} | {real_directions(pl, 1, value):.0f} | "
                    f"{r['cut']:.0f} | {r['eq4']:.0f} |")
@@ -308,7 +304,7 @@ def main() -> None:
                      f"Eq. 4 {best['eq4']:.1f} mm (target <= 1183 mm, stretch 1050 mm).")
         if args.png:
             png = deviation_map_png(grid, best["residual"], tolerance=H_C, allowance=ALLOWANCE,
-                                    labels=cell_labels(grid, best["labels"]),
+                                    labels=best["cells"],
                                     title=f"{label(best, tools)}: Eq. 4 {best['eq4']:.0f} mm")
             Path(args.png).write_bytes(png)
             print(f"wrote {args.png} ({len(png) // 1024} kB)")
@@ -316,7 +312,8 @@ def main() -> None:
         lines.append("No zoned toroidal plan meets h_c.")
     lines.append("")
     if args.analysis:
-        lines += analysis(surface, tools, grid, interior, memo)
+        lines += analysis(surface, tools, grid, interior, memo,
+                          {(r["method"], r["tool"], r["value"]): r for r in rows})
     lines += [READING]
     Path(args.out).write_text("\n".join(lines) + "\n")
     print("\n".join(lines[4:]))

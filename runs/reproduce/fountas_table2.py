@@ -32,7 +32,7 @@ import numpy as np
 
 from evoplan.engine import Termination, run
 from evoplan.problems.toolpath.criteria.objective import weighted_sum
-from evoplan.problems.toolpath.simulation import cell_labels, design_grid, residual_metrics, sweep_path
+from evoplan.problems.toolpath.simulation import design_grid, simulate
 from evoplan.problems.toolpath.simulation.figures import deviation_map_png
 from evoplan.runner import best_record, prepare_file
 
@@ -154,10 +154,10 @@ def largest_difference(new: dict, old: dict) -> tuple[float, str, int]:
 
 
 def simulated(problem, params, grid) -> tuple[dict, np.ndarray, np.ndarray | None]:
-    """Cut the plan of one decision set on ``grid``: (metrics, residual, mesh labels)."""
+    """Cut the plan of one decision set on ``grid``: (metrics, residual, zone of each cell)."""
     path, labels = problem.cl_path(params)
-    res = sweep_path(path, grid)
-    return residual_metrics(grid, res.values, allowance=ALLOWANCE), res.values, labels
+    sim = simulate(path, grid, allowance=ALLOWANCE, mesh_labels=labels)
+    return sim.metrics, sim.residual.values, sim.labels
 
 
 def zoned_run(path: Path, generations: int | None):
@@ -267,14 +267,14 @@ def main() -> None:
             plans[f"as the best, K = {k}"] = (zoned, {**best, "zones": k})
     t0 = time.perf_counter()
     grid = design_grid(problem.surface, grid_mm)
-    crit, sims, residuals = {}, {}, {}
+    crit, sims, residuals, cells = {}, {}, {}, {}
     for label, (pr, params) in plans.items():
         crit[label] = pr.evaluate_params(params)
         if pr is not zoned:  # the plan fed along X, judged by the zoned run's Eq. 9
             arrays = {k: np.array([v]) for k, v in crit[label].items()}
             crit[label]["objective"] = float(weighted_sum(arrays, zoned.weights, zoned.norm_bounds)[0])
         t1 = time.perf_counter()
-        sims[label], residuals[label], labels = simulated(pr, params, grid)
+        sims[label], residuals[label], cells[label] = simulated(pr, params, grid)
         print(f"simulated {label} ({time.perf_counter() - t1:.0f} s): "
               + ", ".join(f"{k} {v:.4f}" for k, v in sims[label].items()), flush=True)
     t_sim = time.perf_counter() - t0
@@ -308,10 +308,8 @@ def main() -> None:
     for key, label, fmt in SIM_ROWS:
         lines.append(f"| **{label}** | " + " | ".join(fmt.format(sims[n][key]) for n in names) + " |")
     if args.png:
-        labels = zoned.cl_path(best)[1]
         png = small_png(deviation_map_png(grid, residuals["zoned run's best"], tolerance=zoned.simulation_tolerance,
-                                allowance=ALLOWANCE,
-                                labels=None if labels is None else cell_labels(grid, labels),
+                                allowance=ALLOWANCE, labels=cells["zoned run's best"],
                                 title=f"Fountas, zoned VEGA best: {fmt_params(best)}"))
         Path(args.png).write_bytes(png)
         print(f"wrote {args.png} ({len(png) // 1024} kB)")
