@@ -16,10 +16,12 @@ import textwrap
 
 import numpy as np
 
+from .criteria.analytic import eq4_total, plan_lengths
+
 __all__ = ["plan_artifacts", "zone_map_png"]
 
 
-def _title(problem, genes, crit) -> str:
+def _title(problem, genes, batch) -> str:
     parts = []
     for name, value in genes.items():
         v = value[0]
@@ -29,8 +31,10 @@ def _title(problem, genes, crit) -> str:
         else:
             parts.append(f"{name} {v:.4g}")
     zoning = problem.planner.layouts.method.name
-    parts.append(f"{problem.machine}, {zoning}: {crit['zones']:.0f} zone(s), cutting "
-                 f"{crit['cutting_length']:.1f} mm, Eq. 4 total {crit['eq4_total']:.1f} mm")
+    zones = float(batch.zones[0])
+    cutting = float(plan_lengths(batch)["cutting_length"][0])
+    parts.append(f"{problem.machine}, {zoning}: {zones:.0f} zone(s), cutting {cutting:.1f} mm, "
+                 f"Eq. 4 total {eq4_total(cutting, zones, problem.delta_l):.1f} mm")
     return ", ".join(parts)
 
 
@@ -81,15 +85,15 @@ def zone_map_png(surface, batch, labels, title: str = "") -> bytes:
     return buf.getvalue()
 
 
-def plan_artifacts(problem, batch, genes, path, crit) -> dict[str, bytes]:
+def plan_artifacts(problem, batch, genes, path) -> dict[str, bytes]:
     """``zone_map.png``, ``cc_pattern.png`` and ``toolpath.apt`` of plan 0 of ``batch``
-    (``path``: its CLPath as the machine runs it, ``crit``: its criteria)."""
+    (``path``: its CLPath as the machine runs it); the title's lengths are the plan's own."""
     from .export.apt_write import apt_toolpath
     from .export.toolpath import Tool, Toolpath
     from .figures import cc_pattern_png
 
     tool = problem.tool_db.tools[int(genes["tool"][0])]
-    title = _title(problem, genes, crit)
+    title = _title(problem, genes, batch)
     zones = int(batch.zones[0])
     if zones > 1:
         color, label, categories = path.zone, "zone", zones

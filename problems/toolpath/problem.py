@@ -219,11 +219,11 @@ class ToolpathProblem(Problem):
     def artifacts(self, x) -> dict[str, bytes]:
         """Result files of one decision set ``x`` (a phenotype row, the tool as its index):
         the zone map with the plan's sections, the CC pattern on the surface and the APT CL
-        program with a ``$$ ZONE z PASS k`` comment opening each section."""
+        program with a ``$$ ZONE z PASS k`` comment opening each section. The title's lengths
+        come from the plan itself: no criterion is evaluated (no cut simulation)."""
         from .artifacts import plan_artifacts
 
         X = self.check(np.asarray(x, float).reshape(1, -1))
         batch, genes = self.plan(X)
-        crit = self.criteria(X)
         path = self.planner.cl_path(genes, self.feed_rate)
-        return plan_artifacts(self, batch, genes, path, {k: float(v[0]) for k, v in crit.items()})
+        return plan_artifacts(self, batch, genes, path)

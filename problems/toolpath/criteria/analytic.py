@@ -53,7 +53,7 @@ from .scallop import gap_heights
 from .scallop_3axis import gap_heights_3axis
 from .table import names
 
-__all__ = ["analytic_criteria", "point_heights", "ANALYTIC"]
+__all__ = ["analytic_criteria", "point_heights", "plan_lengths", "eq4_total", "ANALYTIC"]
 
 #: the names :func:`analytic_criteria` returns, in table order
 ANALYTIC = names(family="analytic")
@@ -171,6 +171,11 @@ def plan_lengths(batch) -> dict[str, np.ndarray]:
             "interzone_length": np.bincount(own, np.where(same, 0.0, dist), n)}
 
 
+def eq4_total(cutting_length, zones, delta_l: float):
+    """Djebali Eq. 4: the cutting length plus (zones - 1) delta_l, the inter-zone penalty."""
+    return cutting_length + (zones - 1.0) * float(delta_l)
+
+
 def _plan_counts(batch) -> dict[str, np.ndarray]:
     n, si = batch.n, batch.sec_ind
     new_pass = np.ones(len(si), bool)
@@ -223,5 +228,5 @@ def analytic_criteria(batch, surface, tools, genes: dict, *, allowance: float,
     crit |= plan_lengths(batch)
     crit["path_length"] = crit["cutting_length"] + crit["link_length"] + crit["interzone_length"]
     crit["machining_time"] = crit["path_length"] / float(feed_rate)
-    crit["eq4_total"] = crit["cutting_length"] + (crit["zones"] - 1.0) * float(delta_l)
+    crit["eq4_total"] = eq4_total(crit["cutting_length"], crit["zones"], delta_l)
     return {name: crit[name] for name in ANALYTIC}

@@ -111,6 +111,36 @@ def test_multi_objective_mode_returns_normalized_columns():
     np.testing.assert_allclose(F[:, 1], crit["cc_count"] / 2000.0)
 
 
+def _apt_title(files) -> str:
+    """The APT program's opening comment (the artifacts' title), unwrapped."""
+    lines = files["toolpath.apt"].decode().splitlines()[1:]
+    return " ".join(line[3:] for line in lines[:lines.index("$$ TOOLPOINT TIP")])
+
+
+def test_artifacts_title_holds_the_plan_lengths_without_evaluating_criteria():
+    """The title's cutting and Eq. 4 lengths are those the criteria report; a simulated
+    problem writes its artifacts without running the cut simulation."""
+    sim = ToolpathProblem(criteria="simulated", normalization=FIXED)
+
+    def no_simulation(*args, **kwargs):
+        raise AssertionError("artifacts ran the cut simulation")
+
+    sim.simulated.measure = no_simulation
+    crit = ToolpathProblem(normalization=FIXED).evaluate_params(GA)
+    assert (f"5axis, single: 1 zone(s), cutting {crit['cutting_length']:.1f} mm, Eq. 4 total "
+            f"{crit['eq4_total']:.1f} mm") in _apt_title(sim.artifacts(sim.row(GA)[0]))
+    zoned = ToolpathProblem(surface="choi", machine="3axis", spacing="scallop",
+                            fixed={"step": 3.0}, ranges={"zones": [1, 3]},
+                            zoning={"method": "kmeans", "mesh": [10, 10]},
+                            weights={"eq4_total": 1.0}, normalization={"eq4_total": [0, 1]})
+    x = np.array([1.0, 3.0])
+    crit = zoned.criteria(x[None])
+    zones, cutting = crit["zones"][0], crit["cutting_length"][0]
+    assert zones > 1 and crit["eq4_total"][0] == pytest.approx(cutting + (zones - 1) * 40.0)
+    assert (f"3axis, kmeans: {zones:.0f} zone(s), cutting {cutting:.1f} mm, Eq. 4 total "
+            f"{cutting + (zones - 1) * 40.0:.1f} mm") in _apt_title(zoned.artifacts(x))
+
+
 def test_plan_is_in_zigzag_order_with_consistent_tool_geometry(fountas_problem):
     batch, genes = fountas_problem.plan(fountas_problem.row(GA))
     path, labels = fountas_problem.cl_path(GA)
