@@ -22,8 +22,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from .zoning.chord import split_moves
-
 __all__ = ["edge_overrun"]
 
 
@@ -66,42 +64,3 @@ def edge_overrun(points: dict, sec_start, sec_count, at_head, at_tail, head_leng
         out["chord"] = np.where(steps == 0, out["chord"], 0.0)
     added = steps != 0
     return out, start, count, ~added, shift, (owner[added], (step_len / t_xy)[added])
-
-
-def refine_drop_moves(points: dict, cutter, surface, tolerance: float, rounds: int = 8):
-    """Split the straight moves of a drop-cutter path until the drop-cutter tip at their
-    quarter and mid XY is within ``tolerance`` (mm) of the move: where the tool falls away
-    (past the edge, or where the tangent tool's XY swings round a corner of the part) the
-    gouge-free tip follows a curve, and a chord below it would cut into the part. The check
-    is vertical, at the move's own XY: exactly what the machine's straight move does.
-    ``points``: per-point arrays in path order with ``tip`` and ``section``; an inserted row
-    (the drop-cutter tip at the move's mid XY) repeats its left neighbour's other fields.
-    Returns (points, stats: ``chord_added`` points inserted, ``chord_rounds``,
-    ``chord_deviation`` the largest vertical deviation left at the checked points,
-    ``chord_tolerance``)."""
-    pts = dict(points)
-    q = np.array([0.25, 0.5, 0.75])
-    added = done = 0
-    pending = None
-    dev = np.zeros(max(len(pts["tip"]) - 1, 0))
-    while True:
-        tip = pts["tip"]
-        i = np.flatnonzero(pending) if added else np.flatnonzero(
-            pts["section"][1:] == pts["section"][:-1])
-        if len(i) == 0:
-            break
-        xy = (1 - q[:, None, None]) * tip[i, :2] + q[:, None, None] * tip[i + 1, :2]
-        chord_z = (1 - q[:, None]) * tip[i, 2] + q[:, None] * tip[i + 1, 2]
-        z = cutter.drop_cutter(surface, xy.reshape(-1, 2)).reshape(3, -1)
-        dev[i] = np.max(np.abs(np.where(np.isfinite(z), z - chord_z, 0.0)), axis=0)
-        bad = dev[i] > tolerance
-        if not bad.any() or done == rounds:
-            break
-        done += 1
-        left = i[bad]
-        new = {"tip": np.column_stack([xy[1][bad], z[1][bad]])}
-        pts, dev, pending = split_moves(pts, dev, left, new)
-        added += len(left)
-    return pts, {"chord_added": added, "chord_rounds": done,
-                 "chord_deviation": float(dev.max(initial=0.0)),
-                 "chord_tolerance": float(tolerance)}

@@ -34,12 +34,11 @@ from ..clpath import CLPath
 from .batch import PlanBatch
 from .orientation import get_machine, travel_tangent
 from .overrun import edge_overrun as add_overrun
-from .overrun import refine_drop_moves
 from .planes import PassGeometry
 from .points import sample_sections
 from .sections import Sections, full_plane_sections, zone_sections
 from .zones import ZoneLayouts
-from .zoning.chord import refine_chords
+from .zoning.chord import refine_chords, refine_drop_moves
 
 __all__ = ["Planner", "SPACINGS"]
 
@@ -150,8 +149,8 @@ class Planner:
         the machine runs it. A 3-axis plan's moves are split until each stays within the
         chord tolerance of the placement's CL curve: the drop-cutter tip falls away at edges
         and crests and swings round corners, and a straight move there would cut into the
-        part (``overrun.refine_drop_moves``, checked at the move's own XY; a tangent
-        placement: ``zoning/chord.py``); ``info`` reports it and the CC points."""
+        part (``zoning/chord.py``: ``refine_drop_moves``, checked at the move's own XY; a
+        tangent placement: ``refine_chords``); ``info`` reports it and the CC points."""
         one = {k: np.atleast_1d(np.asarray(v))[:1] for k, v in genes.items()}
         batch = self.plan(one, place=True)
         tool = self.tools.tools[int(one["tool"][0])]

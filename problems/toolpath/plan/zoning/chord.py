@@ -31,7 +31,7 @@ import numpy as np
 from ...cutters.surface_grid import uv_at_xy
 from ...geometry.surface import unit_normal
 
-__all__ = ["refine_chords", "split_moves"]
+__all__ = ["refine_moves", "refine_chords", "refine_drop_moves", "split_moves"]
 
 _Q = np.array([0.25, 0.5, 0.75])
 
@@ -66,14 +66,15 @@ def split_moves(points: dict, move_dev, left, new: dict):
     return pts, move_dev, pending
 
 
-def refine_chords(surface, cutter, place, points: dict, tolerance: float, rounds: int = 8):
-    """Split the moves of ``points`` (arrays ``uv``, ``cc``, ``normal``, ``tip``,
-    ``section`` and any others with one row per CL point, in path order) until each move is
-    within ``tolerance`` (mm) of the placement's CL curve (module doc). ``place(cutter,
-    surface, cc, normal) -> tip``. Returns (points with the new rows, inserted rows' values
-    copied from the left neighbour for the other arrays; stats dict: ``chord_added``,
-    ``chord_rounds``, ``chord_deviation`` = largest remaining deviation at the check points,
-    ``chord_tolerance``)."""
+def refine_moves(points: dict, measure, tolerance: float, rounds: int = 8):
+    """Split the moves of ``points`` (per-point arrays in path order, with ``tip`` and
+    ``section``) until each is within ``tolerance`` (mm) of the CL curve (module doc).
+    ``measure(points, i) -> (dev, splittable, new)`` checks the moves i -> i + 1 (k,):
+    their deviations (k,), which of them may be split (bool, (k,) or a scalar) and the rows
+    their mid-points would insert ({field: (k, ...)}). Returns (points with the new rows,
+    the other arrays' values copied from the left neighbour; stats dict: ``chord_added``,
+    ``chord_rounds``, ``chord_deviation`` = largest remaining deviation at the check
+    points, ``chord_tolerance``)."""
     pts = dict(points)
     move_dev = np.zeros(max(len(pts["tip"]) - 1, 0))
     pending = pts["section"][1:] == pts["section"][:-1]
@@ -82,6 +83,29 @@ def refine_chords(surface, cutter, place, points: dict, tolerance: float, rounds
         i = np.flatnonzero(pending)
         if len(i) == 0:
             break
+        dev, splittable, new = measure(pts, i)
+        move_dev[i] = dev
+        bad = (move_dev[i] > tolerance) & splittable
+        if not bad.any() or done == rounds:
+            break
+        done += 1
+        left = i[bad]
+        pts, move_dev, pending = split_moves(pts, move_dev, left,
+                                             {k: v[bad] for k, v in new.items()})
+        added += len(left)
+    stats = {"chord_added": added, "chord_rounds": done,
+             "chord_deviation": float(move_dev.max(initial=0.0)),
+             "chord_tolerance": float(tolerance)}
+    return pts, stats
+
+
+def refine_chords(surface, cutter, place, points: dict, tolerance: float, rounds: int = 8):
+    """:func:`refine_moves` against the tangent placement: ``points`` hold ``uv``, ``cc``,
+    ``normal``, ``tip``, ``section`` (and any others); ``place(cutter, surface, cc,
+    normal) -> tip``; the check points are placed at the CC points of the moves' quarter
+    and mid XY, and only a mid-point on the footprint is inserted."""
+
+    def measure(pts, i):
         xy = pts["cc"][:, :2]
         xy_q = (1 - _Q[:, None, None]) * xy[i] + _Q[:, None, None] * xy[i + 1]  # (3, k, 2)
         uv0 = np.broadcast_to(0.5 * (pts["uv"][i] + pts["uv"][i + 1]), xy_q.shape)
@@ -89,17 +113,29 @@ def refine_chords(surface, cutter, place, points: dict, tolerance: float, rounds
                                           uv0.reshape(-1, 2))
         chord = (1 - _Q[:, None, None]) * pts["tip"][i] + _Q[:, None, None] * pts["tip"][i + 1]
         gap = np.linalg.norm(tip.reshape(3, -1, 3) - chord, axis=2)
-        move_dev[i] = np.nanmax(np.where(np.isnan(gap), -np.inf, gap), axis=0).clip(0.0)
+        dev = np.nanmax(np.where(np.isnan(gap), -np.inf, gap), axis=0).clip(0.0)
         mid = len(i) + np.arange(len(i))  # the q = 1/2 rows of the flattened check points
-        bad = (move_dev[i] > tolerance) & ok[mid]
-        if not bad.any() or done == rounds:
-            break
-        done += 1
-        left, rows = i[bad], mid[bad]
-        new = {"uv": uv[rows], "cc": cc[rows], "normal": normal[rows], "tip": tip[rows]}
-        pts, move_dev, pending = split_moves(pts, move_dev, left, new)
-        added += len(left)
-    stats = {"chord_added": added, "chord_rounds": done,
-             "chord_deviation": float(move_dev.max(initial=0.0)),
-             "chord_tolerance": float(tolerance)}
-    return pts, stats
+        new = {"uv": uv[mid], "cc": cc[mid], "normal": normal[mid], "tip": tip[mid]}
+        return dev, ok[mid], new
+
+    return refine_moves(points, measure, tolerance, rounds)
+
+
+def refine_drop_moves(points: dict, cutter, surface, tolerance: float, rounds: int = 8):
+    """:func:`refine_moves` against the drop-cutter placement: where the tool falls away
+    (past the edge, or where the tangent tool's XY swings round a corner of the part) the
+    gouge-free tip follows a curve, and a chord below it would cut into the part. The check
+    is vertical, at the move's own quarter and mid XY: exactly what the machine's straight
+    move does; ``chord_deviation`` is then the largest vertical deviation left. ``points``
+    hold ``tip`` and ``section``; an inserted row (the drop-cutter tip at the move's mid
+    XY) repeats its left neighbour's other fields."""
+
+    def measure(pts, i):
+        tip = pts["tip"]
+        xy = (1 - _Q[:, None, None]) * tip[i, :2] + _Q[:, None, None] * tip[i + 1, :2]
+        chord_z = (1 - _Q[:, None]) * tip[i, 2] + _Q[:, None] * tip[i + 1, 2]
+        z = cutter.drop_cutter(surface, xy.reshape(-1, 2)).reshape(3, -1)
+        dev = np.max(np.abs(np.where(np.isfinite(z), z - chord_z, 0.0)), axis=0)
+        return dev, True, {"tip": np.column_stack([xy[1], z[1]])}
+
+    return refine_moves(points, measure, tolerance, rounds)
