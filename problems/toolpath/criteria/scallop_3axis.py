@@ -34,6 +34,7 @@ from functools import lru_cache
 
 import numpy as np
 
+from ..plan.zoning.profile import angle_grid, grid_coords, secant_width, section_beta
 from .scallop import scallop_height
 
 __all__ = ["WidthTable", "width_table", "cusp_heights", "gap_heights_3axis"]
@@ -42,8 +43,8 @@ __all__ = ["WidthTable", "width_table", "cusp_heights", "gap_heights_3axis"]
 class WidthTable:
     """W(h) over (|t_z|, |beta|) at the h levels ``h``, one cutter.
 
-    Angle grids are uniform in sqrt(|t_z|) and sqrt(|beta|) (dense near the flat bottom,
-    where the width changes fastest), as ``plan/zoning/profile.py``'s table.
+    The angle grid, its index mapping, the section angle and the secant correction are
+    ``plan/zoning/profile.py``'s (the planner's spacing model that the criteria invert).
     """
 
     def __init__(self, cutter, n_t: int = 49, n_b: int = 49, n_h: int = 40):
@@ -51,8 +52,7 @@ class WidthTable:
         # levels: ~0 (the width of the contact itself: a flat bottom's 2 (R - r)), then
         # geometric from 1e-5 R to R
         self.h = np.r_[1e-9, np.geomspace(1e-5, 1.0, n_h - 1)] * cutter.radius
-        tt, bb = np.meshgrid(np.linspace(0.0, 1.0, n_t) ** 2,
-                             np.linspace(0.0, 1.0, n_b) ** 2 * 0.5 * np.pi, indexing="ij")
+        tt, bb = angle_grid(n_t, n_b)
         h = self.h[None, None, :]
         self.table = (cutter.swept_side_width(h, tt[..., None], bb[..., None])
                       + cutter.swept_side_width(h, tt[..., None], -bb[..., None]))
@@ -60,8 +60,7 @@ class WidthTable:
 
     def widths(self, t_z, beta) -> np.ndarray:
         """(N, n_h) W at every h level, bilinear in the angles."""
-        fi = np.sqrt(np.minimum(np.abs(t_z), 1.0)) * (self.n_t - 1)
-        fj = np.sqrt(np.minimum(np.abs(beta) / (0.5 * np.pi), 1.0)) * (self.n_b - 1)
+        fi, fj = grid_coords(t_z, beta, self.n_t, self.n_b)
         i = np.minimum(fi.astype(int), self.n_t - 2)
         j = np.minimum(fj.astype(int), self.n_b - 2)
         a, b = (fi - i)[:, None], (fj - j)[:, None]
@@ -83,13 +82,8 @@ def cusp_heights(cutter, w, t_z, b_z, kappa) -> np.ndarray:
     concave). See the module docstring."""
     w, t_z, b_z, kappa = (np.asarray(x, float) for x in np.broadcast_arrays(w, t_z, b_z, kappa))
     tab = width_table(cutter)
-    cos_g = np.sqrt(np.maximum(1.0 - t_z * t_z, 1e-300))
-    beta = np.arcsin(np.clip(b_z / cos_g, -1.0, 1.0))
-    W = tab.widths(t_z, beta)
-    h = tab.h[None, :]
-    with np.errstate(divide="ignore", invalid="ignore"):
-        shrink = 1.0 - kappa[:, None] * W * W / (8.0 * h)
-        wk = np.where(shrink > 0, W / np.sqrt(shrink), np.inf)
+    W = tab.widths(t_z, section_beta(t_z, b_z))
+    wk = secant_width(W, kappa[:, None], tab.h[None, :])
     spans = wk >= w[:, None]
     k = np.argmax(spans, axis=1)
     rows = np.arange(len(w))

@@ -32,7 +32,38 @@ from functools import lru_cache
 import numpy as np
 from scipy.ndimage import map_coordinates
 
-__all__ = ["ProfileTable", "profile_table", "profile_width"]
+__all__ = ["ProfileTable", "profile_table", "profile_width", "angle_grid", "grid_coords",
+           "section_beta", "secant_width"]
+
+
+def angle_grid(n_t: int, n_b: int):
+    """(tt, bb) (n_t, n_b): the tables' nodes in |t_z| and |beta| (rad), uniform in
+    sqrt(|t_z|) over [0, 1] and sqrt(|beta|) over [0, pi/2] (dense near the flat bottom)."""
+    return np.meshgrid(np.linspace(0.0, 1.0, n_t) ** 2,
+                       np.linspace(0.0, 1.0, n_b) ** 2 * 0.5 * np.pi, indexing="ij")
+
+
+def grid_coords(t_z, beta, n_t: int, n_b: int):
+    """(i, j): fractional indices of |t_z|, |beta| on :func:`angle_grid` (clamped to it)."""
+    i = np.sqrt(np.minimum(np.abs(t_z), 1.0)) * (n_t - 1)
+    j = np.sqrt(np.minimum(np.abs(beta) / (0.5 * np.pi), 1.0)) * (n_b - 1)
+    return i, j
+
+
+def section_beta(t_z, b_z) -> np.ndarray:
+    """Slope angle beta (rad) of the section across the feed: sin beta = b_z / cos(gamma),
+    gamma the feed inclination (cos gamma = sqrt(1 - t_z^2))."""
+    cos_g = np.sqrt(np.maximum(1.0 - t_z * t_z, 1e-300))
+    return np.arcsin(np.clip(b_z / cos_g, -1.0, 1.0))
+
+
+def secant_width(w, kappa, h) -> np.ndarray:
+    """A plane's CC spacing w at cusp height h on a section of curvature kappa (> 0
+    concave): w / sqrt(1 - kappa R_s), R_s = (w/2)^2 / (2 h) the profile's secant radius;
+    inf where 1 - kappa R_s <= 0 (a concave section tighter than the profile)."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        shrink = 1.0 - kappa * w * w / (8.0 * h)
+        return np.where(shrink > 0, w / np.sqrt(np.maximum(shrink, 1e-300)), np.inf)
 
 
 class ProfileTable:
@@ -46,15 +77,13 @@ class ProfileTable:
     def __init__(self, cutter, h: float, n_t: int = 129, n_b: int = 129):
         self.h = h
         self.n_t, self.n_b = n_t, n_b
-        tt, bb = np.meshgrid(np.linspace(0.0, 1.0, n_t) ** 2,
-                             np.linspace(0.0, 1.0, n_b) ** 2 * 0.5 * np.pi, indexing="ij")
+        tt, bb = angle_grid(n_t, n_b)
         self.table = cutter.swept_side_width(h, tt, bb) + cutter.swept_side_width(h, tt, -bb)
 
     def width(self, t_z, beta) -> np.ndarray:
         """Bilinear lookup of W at |t_z|, |beta| (arrays)."""
-        i = np.sqrt(np.minimum(np.abs(t_z), 1.0)) * (self.n_t - 1)
-        j = np.sqrt(np.minimum(np.abs(beta) / (0.5 * np.pi), 1.0)) * (self.n_b - 1)
-        return map_coordinates(self.table, [i, j], order=1, mode="nearest")
+        return map_coordinates(self.table, grid_coords(t_z, beta, self.n_t, self.n_b),
+                               order=1, mode="nearest")
 
 
 @lru_cache(maxsize=16)
@@ -72,9 +101,5 @@ def profile_width(target, t_z, b_z, kappa) -> np.ndarray:
     """
     t_z, b_z, kappa = np.broadcast_arrays(*(np.asarray(x, float) for x in (t_z, b_z, kappa)))
     table = profile_table(target.cutter, float(target.h_c))
-    cos_g = np.sqrt(np.maximum(1.0 - t_z * t_z, 1e-300))
-    beta = np.arcsin(np.clip(b_z / cos_g, -1.0, 1.0))
-    w = table.width(t_z, beta)
-    shrink = 1.0 - kappa * w * w / (8.0 * target.h_c)  # secant radius (w/2)^2 / (2 h_c)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        return np.where(shrink > 0, w / np.sqrt(np.maximum(shrink, 1e-300)), np.inf)
+    w = table.width(t_z, section_beta(t_z, b_z))
+    return secant_width(w, kappa, target.h_c)
