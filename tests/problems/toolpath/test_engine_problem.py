@@ -141,7 +141,16 @@ def test_the_old_zoning_problem_is_a_configuration_of_toolpath():
     assert list(old.variables) == list(new.variables) == ["tool", "zones"]
     X = np.array([[0, 1], [1, 2]], float)
     c = old.criteria(X)
-    np.testing.assert_array_equal(c["total_length"], new.criteria(X)["eq4_total"])
+    # total_length is Djebali's Eq. 4, recomputed here from the plan's polylines: the
+    # sections' lengths plus (zones - 1) delta_l (40 mm)
+    batch, _ = new.plan(X, place=False)
+    cutting = np.zeros(len(X))
+    for s in range(len(batch.sec_start)):
+        pts = batch.p[batch.sec_start[s]:batch.sec_start[s] + batch.sec_count[s]]
+        cutting[batch.sec_ind[s]] += np.linalg.norm(np.diff(pts, axis=0), axis=1).sum()
+    assert c["zones"].tolist() == [1.0, 2.0]
+    np.testing.assert_allclose(c["total_length"], cutting + [0.0, 40.0], rtol=1e-12)
+    np.testing.assert_allclose(c["penalty"], [0.0, 40.0])
     np.testing.assert_array_equal(old.evaluate(X)[:, 0], c["total_length"])  # F in mm
     with pytest.raises(ValueError, match=r"^zones: expected integers in \[1, 100\]"):
         ZonedToolpathProblem(mesh=(10, 10), zones=(1, 101))
