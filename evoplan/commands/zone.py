@@ -95,9 +95,10 @@ def load(path: str, method: str | None = None) -> ZoneBase:
 
 
 def build_plan(cfg: ZoneBase, base_dir: Path):
-    """(surface, planner, genes, batch) of a validated config: the one engine's 3-axis plan
-    (drop-cutter placement, passes spaced for h_c, each zone along its optimized direction)
-    with the method's zones; ValueError for bad values."""
+    """(surface, planner, genes, batch, seconds) of a validated config: the one engine's
+    3-axis plan (drop-cutter placement, passes spaced for h_c, each zone along its optimized
+    direction) with the method's zones, and the seconds planning took; ValueError for bad
+    values."""
     import numpy as np
 
     from ..problems.toolpath.geometry.spec import parse_surface

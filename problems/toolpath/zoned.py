@@ -86,9 +86,6 @@ class ZonedToolpathProblem(ToolpathProblem):
             super().__init__(**self.config)
         except ValueError as e:
             raise ValueError(_old_key(str(e))) from None
-        self.h_c = self.planner.h_c
-        self.gene = self.planner.layouts.gene
-        self.method = self.planner.layouts.method.name
 
     def criteria(self, X) -> dict[str, np.ndarray]:
         crit = super().criteria(X)
