@@ -12,7 +12,15 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["interp_rows"]
+__all__ = ["interp_rows", "ranges"]
+
+
+def ranges(counts):
+    """For counts (k,): (owner (sum,), position within owner (sum,)): the rows of k blocks
+    laid end to end, block i holding counts[i] rows."""
+    owner = np.repeat(np.arange(len(counts)), counts)
+    starts = np.cumsum(counts) - counts
+    return owner, np.arange(owner.size) - starts[owner]
 
 
 def interp_rows(xp, fp, x, rows=None):

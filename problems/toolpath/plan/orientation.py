@@ -49,12 +49,22 @@ class Machine:
     overrun = True
     drop = False
 
+    @property
+    def wedge(self) -> bool:
+        """Whether a section's run past the edge also covers the wedge of part between it
+        and its neighbouring planes where the edge is oblique (``sections.edge_runs``): only
+        where the tool's height comes from the drop-cutter. A 5-axis tool running on along
+        its tangent past an oblique edge sweeps the part's corner (0.31 mm simulated gouge,
+        torus D16 r3 at 172 deg on Fountas' part)."""
+        return self.drop
+
     def axes(self, normal, tangent, genes: dict) -> np.ndarray:
         """Unit tool axes (N, 3) from normals, travel tangents and per-point genes (N,)."""
         raise NotImplementedError
 
-    def tips(self, cutter, surface, cc, normal, axis) -> np.ndarray:
-        """CL points (k, 3) of one cutter's CC points (k, 3)."""
+    def tips(self, cutter, surface, cc, normal, axis, shift=None) -> np.ndarray:
+        """CL points (k, 3) of one cutter's CC points (k, 3), moved by ``shift`` (k, 3)
+        (None: not moved): the run past an edge (``overrun.py``)."""
         raise NotImplementedError
 
 
@@ -69,13 +79,11 @@ class FiveAxis(Machine):
         return (np.sin(lead) * tangent + np.cos(lead) * np.sin(tilt) * b
                 + np.cos(lead) * np.cos(tilt) * normal)
 
-    def tips(self, cutter, surface, cc, normal, axis):
-        return cutter.cc_to_tip(cc, normal, axis)
-
-    def tips_shifted(self, cutter, surface, cc, normal, shift, axis):
-        """Tips of the CC points moved by ``shift`` (k, 3): the run past an edge follows the
-        travel tangent with the end point's axis (``overrun.py``)."""
-        return cutter.cc_to_tip(cc, normal, axis) + shift
+    def tips(self, cutter, surface, cc, normal, axis, shift=None):
+        """The tangent tips; a shift moves them as they are: the run past an edge follows
+        the travel tangent with the end point's axis."""
+        tip = cutter.cc_to_tip(cc, normal, axis)
+        return tip if shift is None else tip + shift
 
 
 class ThreeAxis(Machine):
@@ -93,13 +101,12 @@ class ThreeAxis(Machine):
     def axes(self, normal, tangent, genes):
         return np.broadcast_to(np.array([0.0, 0.0, 1.0]), normal.shape).copy()
 
-    def tips(self, cutter, surface, cc, normal, axis):
-        return self.tips_shifted(cutter, surface, cc, normal, np.zeros_like(cc), axis)
-
-    def tips_shifted(self, cutter, surface, cc, normal, shift, axis=None):
-        """Tips of the CC points moved by ``shift`` (k, 3) in XY: the tangent tool's XY plus
-        the shift, dropped onto the part (the overrun past an edge, ``overrun.py``)."""
+    def tips(self, cutter, surface, cc, normal, axis=None, shift=None):
+        """The tangent tool's XY plus the shift, dropped onto the part (placement ``cc``:
+        the tangent tip plus the shift)."""
         tangent_tip = cutter.cc_to_tip(cc, normal, (0.0, 0.0, 1.0))
+        if shift is None:
+            shift = np.zeros_like(tangent_tip)
         if self.placement == "cc":
             return tangent_tip + shift
         xy = tangent_tip[:, :2] + shift[:, :2]

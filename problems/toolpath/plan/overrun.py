@@ -22,6 +22,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..geometry.rows import ranges
+
 __all__ = ["edge_overrun"]
 
 
@@ -45,8 +47,7 @@ def edge_overrun(points: dict, sec_start, sec_count, at_head, at_tail, head_leng
     tail = np.where(np.asarray(at_tail) & (reach_tail > 1e-6), n, 0)
     count = sec_count + head + tail
     start = np.cumsum(count) - count
-    owner = np.repeat(np.arange(len(count)), count)
-    j = np.arange(owner.size) - start[owner]  # position in the new section
+    owner, j = ranges(count)  # j: the position in the new section
     h, c = head[owner], sec_count[owner]
     body = np.clip(j - h, 0, c - 1)
     src = sec_start[owner] + body

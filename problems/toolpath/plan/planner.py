@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..geometry.rows import ranges
 from ..geometry.surface import Surface, unit_normal
 from ..tools import ToolDatabase
 from ..clpath import CLPath
@@ -204,8 +205,7 @@ class Planner:
         sec = {k: a[order] for k, a in sec.items()}
         reverse, count = reverse[order], count[order]
         new_start = np.cumsum(count) - count
-        pt_sec = np.repeat(np.arange(len(order)), count)
-        j = np.arange(len(pt_sec)) - new_start[pt_sec]
+        pt_sec, j = ranges(count)
         src = start[order][pt_sec] + np.where(reverse[pt_sec], count[pt_sec] - 1 - j, j)
         inv = np.empty(len(order), np.int64)
         inv[order] = np.arange(len(order))
@@ -229,10 +229,7 @@ class Planner:
                 off = self.tools.cutter(t).cc_to_tip(p[sel], normal[sel], axis[sel]) - p[sel]
                 ahead[sel] = np.sum(off[:, :2] * tangent[sel, :2], axis=1) / np.maximum(
                     np.linalg.norm(tangent[sel, :2], axis=1), 1e-300)
-            # the wedge runs only where the tool's height comes from the drop-cutter: a 5-axis
-            # tool running on along its tangent past an oblique edge swept the part's corner
-            # (0.31 mm simulated gouge, torus D16 r3 at 172 deg on Fountas' part)
-            wedge = 1.0 if self.machine.drop else 0.0
+            wedge = 1.0 if self.machine.wedge else 0.0  # Machine.wedge
             pt, new_start, count, on_part, shift, (x_sec, x_len) = add_overrun(
                 pt, new_start, count, np.where(reverse, hi_end, lo_end),
                 np.where(reverse, lo_end, hi_end),
@@ -243,22 +240,16 @@ class Planner:
                    "cc": np.r_[seg["cc"], np.zeros(len(x_sec), bool)]}
             o = np.argsort(seg["sec"], kind="stable")
             seg = {k: a[o] for k, a in seg.items()}
-            pt_sec = np.repeat(np.arange(len(count)), count)
+            pt_sec, _ = ranges(count)
             ind_pt = sec["ind"][pt_sec]
         tip = None
         if place:
             tip = np.empty_like(pt["p"])
             for t in np.unique(tool[ind_pt]):
                 sel = tool[ind_pt] == t
-                cutter = self.tools.cutter(t)
-                if self.edge_overrun:
-                    tip[sel] = self.machine.tips_shifted(cutter, self.surface,
-                                                         pt["p"][sel] - shift[sel],
-                                                         pt["normal"][sel], shift[sel],
-                                                         pt["axis"][sel])
-                else:
-                    tip[sel] = self.machine.tips(cutter, self.surface, pt["p"][sel],
-                                                 pt["normal"][sel], pt["axis"][sel])
+                tip[sel] = self.machine.tips(self.tools.cutter(t), self.surface,
+                                             pt["p"][sel] - shift[sel], pt["normal"][sel],
+                                             pt["axis"][sel], shift[sel])
         return PlanBatch(
             n=n, zones=zones, sec_ind=sec["ind"], sec_zone=sec["zone"], sec_pass=sec["pass_k"],
             sec_d=sec["d"], sec_alpha=sec["alpha"], sec_reverse=reverse,

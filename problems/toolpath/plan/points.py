@@ -24,10 +24,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..geometry.chord import chord_deviation
-from ..geometry.rows import interp_rows
+from ..geometry.rows import interp_rows, ranges
 from .planes import PassGeometry
 
-__all__ = ["SectionPoints", "sample_sections", "ranges"]
+__all__ = ["SectionPoints", "sample_sections"]
 
 
 @dataclass
@@ -51,13 +51,6 @@ class SectionPoints:
     seg_err: np.ndarray
     seg_len: np.ndarray
     seg_start: np.ndarray
-
-
-def ranges(counts):
-    """For counts (k,): (owner (sum,), position within owner (sum,))."""
-    owner = np.repeat(np.arange(len(counts)), counts)
-    starts = np.cumsum(counts) - counts
-    return owner, np.arange(owner.size) - starts[owner]
 
 
 def _arc_at(arc, tau_grid, tau):

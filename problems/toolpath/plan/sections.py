@@ -31,8 +31,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..geometry.rows import ranges
 from .planes import PassGeometry
-from .points import ranges
 
 __all__ = ["Sections", "plane_offsets", "full_plane_sections", "zone_sections"]
 
