@@ -36,7 +36,7 @@ import pandas as pd
 from evoplan import figure_style as fs
 from evoplan.config import read_yaml
 from evoplan.problems.toolpath.problem import ToolpathProblem
-from evoplan.problems.toolpath.simulation import cell_labels, design_grid, residual_metrics, sweep_path
+from evoplan.problems.toolpath.simulation import design_grid, simulate
 from evoplan.problems.toolpath.simulation.figures import deviation_map_png
 from evoplan.study.config import algorithm_settings, load_study
 from evoplan.study.report import markdown_table
@@ -105,9 +105,8 @@ def plan_row(problem: ToolpathProblem, params: dict, grid) -> dict:
     """The analytic criteria and the simulated cut of one decision set."""
     crit = problem.evaluate_params(params)
     path, labels = problem.cl_path(params)
-    res = sweep_path(path, grid)
-    sim = residual_metrics(grid, res.values, allowance=ALLOWANCE)
-    return {"crit": crit, "sim": sim, "residual": res.values, "labels": labels}
+    sim = simulate(path, grid, allowance=ALLOWANCE, mesh_labels=labels)
+    return {"crit": crit, "sim": sim.metrics, "residual": sim.residual.values, "cells": sim.labels}
 
 
 def short_decisions(problem: ToolpathProblem, p: dict) -> str:
@@ -187,6 +186,7 @@ def main() -> None:
     conv_path.write_bytes(png)
 
     grid = design_grid(problem.surface, grid_mm)
+    h_c = problem.planner.h_c  # the configuration's scallop height (0.254 mm)
     best_rows, plans = [], {}
     t0 = time.perf_counter()
     for alg in ALGORITHMS:
@@ -205,15 +205,14 @@ def main() -> None:
             "sim. scallop mean (mm)": f"{s['scallop_mean_mm']:.4f}",
             "sim. gouge max (mm)": f"{s['gouge_max_mm']:.4f}",
             "uncut (% of area)": f"{100 * s['uncut_fraction']:.2f}",
-            "meets h_c": "yes" if s["scallop_p99_mm"] < 0.254 and s["scallop_max_mm"] <= 1.1 * 0.254
+            "meets h_c": "yes" if s["scallop_p99_mm"] < h_c and s["scallop_max_mm"] <= 1.1 * h_c
             else "no"})
         plans[alg]["params"] = params
     t_sim = time.perf_counter() - t0
     top = min(ALGORITHMS, key=lambda a: plans[a]["crit"]["objective"])
     map_path = md.with_name(md.stem + "_best.png")
-    labels = plans[top]["labels"]
-    map_png = deviation_map_png(grid, plans[top]["residual"], tolerance=0.254, allowance=ALLOWANCE,
-                                labels=None if labels is None else cell_labels(grid, labels),
+    map_png = deviation_map_png(grid, plans[top]["residual"], tolerance=h_c, allowance=ALLOWANCE,
+                                labels=plans[top]["cells"],
                                 title=f"Choi, best {top.upper()} plan: "
                                       f"{fmt_params(plans[top]['params'], problem.tool_db)}, "
                                       f"{plans[top]['crit']['zones']:.0f} after merging")
@@ -243,7 +242,7 @@ def main() -> None:
         markdown_table(fmt_frame(tests, 3)), "",
         f"![convergence]({conv_path.name})", "",
         (f"## The best plan of each algorithm (simulated on a {grid_mm:g} mm grid, "
-        f"{grid.shape[1]} x {grid.shape[0]} cells; meets h_c: p99 < 0.254 mm and max <= 0.279 mm)"), "",
+        f"{grid.shape[1]} x {grid.shape[0]} cells; meets h_c: p99 < {h_c:g} mm and max <= {1.1 * h_c:.3f} mm)"), "",
         markdown_table(pd.DataFrame(best_rows).set_index("algorithm").T.reset_index()
                        .rename(columns={"index": ""})), "",
         f"![deviation map of the best {top.upper()} plan]({map_path.name})", "",
