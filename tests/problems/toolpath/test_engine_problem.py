@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 
+import engine_rows
 import numpy as np
 import pytest
 import yaml
@@ -107,29 +108,21 @@ def test_bad_configurations_are_one_line_naming_the_key():
     assert _error(weights={"objective": 1}).startswith("weights.objective:")
 
 
-def test_single_zone_gives_todays_toolpath_numbers_on_the_table2_sets(fountas_problem):
-    # the figures of the former evaluator (ToolpathSimulator) for Fountas' VEGA set, whose
-    # passes stopped at their last CC point: edge_overrun false (the default runs them on
-    # past the part's edges; only the lengths differ, tests/problems/toolpath/
-    # test_analytic_criteria.py)
-    former = ToolpathProblem(normalization=fountas_problem.norm_bounds, edge_overrun=False)
-    c = former.evaluate_params(dict(tool=6, stepover=41.729, lead=2.957, tilt=0.027,
-                                    step=6.338))
-    assert c["cc_count"] == 289 and c["n_passes"] == 17 and c["zones"] == 1
-    assert c["scallop_max"] == pytest.approx(0.16688700101052756, rel=1e-12)
-    assert c["machining_error"] == pytest.approx(0.1762670011486136, rel=1e-12)
-    assert c["cutting_length"] == pytest.approx(1650.9494277547933, rel=1e-12)
-    assert c["path_length"] == pytest.approx(1766.3375151459838, rel=1e-12)
-    # the GA set: the former evaluator's figures, recorded before it retired
-    # (gouge_max 0.0212 and machining_error 0.0524 then: the gap's gouge alone; the leaned
-    # torus's pose gouge, criteria/heel.py, raises both)
-    old = {"cc_count": 361.0, "n_passes": 22.0, "chord_error_mean": 0.005873380077200637,
-           "scallop_max": 0.04821426078179325, "cutting_length": 2134.6433271585333,
-           "link_length": 115.55070215359292, "machining_time": 2.250194029312126}
-    new = former.evaluate_params(dict(tool=6, stepover=30.791, lead=3.379, tilt=0.040,
-                                      step=8.451))
-    for key, value in old.items():
-        assert new[key] == pytest.approx(value, rel=1e-9), key
+def test_single_zone_gives_the_engines_numbers_on_the_table2_sets(fountas_problem):
+    # the problem adds nothing to the engine's criteria of a plan: on Fountas' Table 2 sets
+    # (whose criteria test_analytic_criteria.py pins to the former evaluator's figures) the
+    # problem's criteria are the engine's, bit for bit, with and without the edge run-on
+    rows = np.array([[5, 30.791, 3.379, 0.040, 8.451], [5, 41.729, 2.957, 0.027, 6.338]])
+    surface, tools = fountas_problem.surface, fountas_problem.tool_db
+    for overrun in (False, True):
+        problem = ToolpathProblem(normalization=fountas_problem.norm_bounds,
+                                  edge_overrun=overrun)
+        got = problem.criteria(rows)
+        want = engine_rows.criteria(surface, tools, rows, edge_overrun=overrun)
+        for name, value in want.items():
+            np.testing.assert_array_equal(got[name], value, err_msg=name)
+        if not overrun:
+            assert got["cc_count"].tolist() == [361, 289] and got["n_passes"].tolist() == [22, 17]
 
 
 def test_the_old_zoning_problem_is_a_configuration_of_toolpath():
