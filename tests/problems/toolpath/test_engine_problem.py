@@ -156,7 +156,7 @@ seed: 1
 problem:
   name: toolpath
   params: {params}
-{extra}algorithm: {{name: vega, population: 4, virus: {{count: 1}}}}
+algorithm: {{name: vega, population: 4, virus: {{count: 1}}}}
 termination: {{generations: 2}}
 """
 CHOI_3AXIS = ("{surface: choi, tools: [{id: 1, type: ball, diameter: 6.35}], machine: 3axis, "
@@ -168,7 +168,7 @@ CHOI_3AXIS = ("{surface: choi, tools: [{id: 1, type: ball, diameter: 6.35}], mac
 def _run(tmp_path, params):
     """(best.json, toolpath.apt lines) of a tiny run of ``params``; both PNGs are written."""
     out = tmp_path / "res"
-    proc = evoplan("run", write(tmp_path / "r.yaml", RUN.format(params=params, extra="")),
+    proc = evoplan("run", write(tmp_path / "r.yaml", RUN.format(params=params)),
                    "--out", out)
     assert proc.returncode == 0, proc.stderr
     for name in ("zone_map.png", "cc_pattern.png"):
