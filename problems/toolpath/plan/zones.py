@@ -6,11 +6,12 @@ evaluations mostly hit this memo):
 
 1. zone labels on the parametric mesh: the registered method (``zoning/methods``: single,
    kmeans, amas) with its settings and the gene's value, then the merging of
-   ``zoning/merge.py`` (a minimum zone area, then Djebali Eq. 4 merging), as
-   ``evoplan zone`` does;
-2. per zone, the feed direction: the configured angle, or Herraz Eq. 3 (the zone's
-   cutting length at h_c minimized over the direction, ``zoning/direction.py``) started
-   from the zone's steepest-slope direction, rounded to the ``ALPHA_STEP_DEG`` grid;
+   ``zoning/merge.py`` (a minimum zone area, then Djebali Eq. 4 merging):
+   ``zoning/plan.label_zones``, the function ``plan_zones`` runs too;
+2. per zone, the feed direction (``zoning/plan.zone_direction``): the configured angle, or
+   Herraz Eq. 3 (the zone's cutting length at h_c minimized over the direction,
+   ``zoning/direction.py``) started from the zone's steepest-slope direction, searched to
+   and rounded to the ``ALPHA_STEP_DEG`` grid (``plan_zones`` keeps the optimum as found);
 3. per zone, the adaptive planes at h_c (``zoning/passes.py``: each plane as far from the
    previous one as the worst point of its pass allows) and the zone's extent across its
    feed (``sections.py`` cuts the planes into sections from the labels).
@@ -22,11 +23,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .zoning.direction import axial_mean, optimize_direction
 from .zoning.features import check_mesh, mesh_features
-from .zoning.merge import MergeSettings, merge_zones
+from .zoning.merge import MergeSettings
 from .zoning.methods import get_method
-from .zoning.passes import zone_passes
+from .zoning.plan import ALPHA_STEP_DEG, DirectionRule, label_zones, zone_direction
 from .zoning.samples import sample_surface
 from .zoning.stepover import ScallopTarget
 
@@ -35,10 +35,6 @@ __all__ = ["ZoningSpec", "ZoneLayout", "ZoneLayouts", "ALPHA_STEP_DEG", "DEFAULT
 #: mm: Choi's and Djebali's scallop limit (0.01 in), the zones' direction search's target
 #: when a plan has none of its own
 DEFAULT_H_C = 0.254
-
-#: optimized feed directions are rounded to this grid (degrees): the search resolves no finer
-#: (its tolerance), and layouts that share a direction share its pass-plane tables
-ALPHA_STEP_DEG = 0.5
 
 
 @dataclass(frozen=True)
@@ -92,6 +88,8 @@ class ZoneLayouts:
         self.single = self.method.name == "single" and feed_angle is not None
         self.h_c = DEFAULT_H_C if h_c is None else float(h_c)
         self.feed_angle = feed_angle
+        self.rule = DirectionRule(model=self.spec.model, scan=self.spec.scan,
+                                  feed_angle=feed_angle)
         self.mesh = check_mesh(*self.spec.mesh)
         self._features = self._samples = None
         self._memo: dict = {}
@@ -141,31 +139,9 @@ class ZoneLayouts:
         settings = self.settings.model_dump()
         if self.gene is not None:
             settings[self.method.gene.setting] = value
-        labels, info = self.method.labels(self.features, self.method.settings(settings),
-                                          seed=self.spec.seed)
-        if self.spec.merge is not None and labels.max() > 0:
-            cell_of = self.samples.cell(*self.mesh)
-
-            def zone_length(mask):  # Eq. 4 term of one candidate zone at its best direction
-                sub = self.samples.take(mask.ravel()[cell_of])
-                return self._direction(sub, mask, target)[1].length
-
-            labels, info["merge"] = merge_zones(labels, self.features, self.spec.merge,
-                                                self.spec.delta_l, zone_length)
-        return labels, info
-
-    def _direction(self, sub, mask, target):
-        if self.feed_angle is not None:
-            alpha = float(np.radians(self.feed_angle)) % np.pi
-            return alpha, zone_passes(sub, target, alpha, self.spec.model)
-        f = self.features
-        start = axial_mean(f.steepest[mask], (f.area * np.sin(f.slope))[mask])
-        best = optimize_direction(sub, target, start, model=self.spec.model, scan=self.spec.scan,
-                                  xatol_deg=ALPHA_STEP_DEG)
-        # on the direction grid: the pass-plane tables are then shared between layouts
-        alpha = float(np.radians(ALPHA_STEP_DEG * round(np.degrees(best.alpha) / ALPHA_STEP_DEG)))
-        alpha %= np.pi
-        return alpha, zone_passes(sub, target, alpha, self.spec.model)
+        return label_zones(self.features, self.samples, self.method, target,
+                           seed=self.spec.seed, merge=self.spec.merge,
+                           delta_l=self.spec.delta_l, rule=self.rule, **settings)
 
     def _layout(self, value, target) -> ZoneLayout:
         labels, info = self._labels(value, target)
@@ -175,9 +151,10 @@ class ZoneLayouts:
         for z in range(int(labels.max()) + 1):
             mask = labels == z
             sub = self.samples.take(zone_of == z)
-            a, passes = self._direction(sub, mask, target)
+            best = zone_direction(sub, self.features, mask, target, self.rule)
+            a = best.alpha
             off = -np.sin(a) * sub.x + np.cos(a) * sub.y
             alpha.append(a)
-            planes.append(np.asarray(passes.s, float))
+            planes.append(np.asarray(best.passes.s, float))
             extent.append((float(off.min()), float(off.max())))
         return ZoneLayout(labels, alpha, planes, extent, info)
