@@ -36,7 +36,7 @@ what is cut.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -75,7 +75,6 @@ class PlanBatch:
     seg_err: np.ndarray
     seg_len: np.ndarray
     seg_cc: np.ndarray | None = None
-    info: dict = field(default_factory=dict)
 
     @property
     def pt_ind(self) -> np.ndarray:

@@ -72,6 +72,11 @@ class FiveAxis(Machine):
     name = "5axis"
     genes = ("lead", "tilt")
 
+    def __init__(self, placement: str | None = None):
+        if placement not in (None, "cc"):
+            raise ValueError(f"placement: a 5-axis tool is placed tangent at the CC point "
+                             f"(cc), got {placement!r}")
+
     def axes(self, normal, tangent, genes):
         lead = np.radians(np.asarray(genes["lead"], float))[:, None]
         tilt = np.radians(np.asarray(genes["tilt"], float))[:, None]
@@ -90,7 +95,8 @@ class ThreeAxis(Machine):
     name = "3axis"
     PLACEMENTS = ("drop", "cc")
 
-    def __init__(self, placement: str = "drop"):
+    def __init__(self, placement: str | None = None):
+        placement = placement or "drop"
         if placement not in self.PLACEMENTS:
             raise ValueError(f"placement: expected one of {', '.join(self.PLACEMENTS)}, "
                              f"got {placement!r}")
@@ -127,9 +133,4 @@ def get_machine(name, placement: str | None = None) -> Machine:
     """The registered machine ``name`` (``5axis`` or ``3axis``); ValueError naming ``machine``."""
     if name not in MACHINES:
         raise ValueError(f"machine: expected one of {', '.join(MACHINES)}, got {name!r}")
-    if name == "3axis":
-        return ThreeAxis(placement or "drop")
-    if placement not in (None, "cc"):
-        raise ValueError(f"placement: a 5-axis tool is placed tangent at the CC point (cc), "
-                         f"got {placement!r}")
-    return FiveAxis()
+    return MACHINES[name](placement)

@@ -28,7 +28,7 @@ __all__ = ["edge_overrun"]
 
 
 def edge_overrun(points: dict, sec_start, sec_count, at_head, at_tail, head_length,
-                 tail_length, ahead=None, n: int = 3):
+                 tail_length, ahead, n: int = 3):
     """Insert the overrun points. ``points``: per-point arrays in machining order (must hold
     ``p`` and ``tangent``); ``at_head`` / ``at_tail`` (S,): the section's first / last point
     lies on the footprint's edge; ``head_length`` / ``tail_length`` (S,) mm: how far past
@@ -39,7 +39,7 @@ def edge_overrun(points: dict, sec_start, sec_count, at_head, at_tail, head_leng
     point it repeats, (seg_sec, seg_len) of the added moves)."""
     sec_start, sec_count = np.asarray(sec_start), np.asarray(sec_count)
     first, last = sec_start, sec_start + sec_count - 1
-    ahead = np.zeros(len(points["p"])) if ahead is None else np.asarray(ahead, float)
+    ahead = np.asarray(ahead, float)
     # how far the tool's centre still has to go past each end (0: it is already there)
     reach_head = np.maximum(np.asarray(head_length, float) + ahead[first], 0.0)
     reach_tail = np.maximum(np.asarray(tail_length, float) - ahead[last], 0.0)
@@ -61,7 +61,6 @@ def edge_overrun(points: dict, sec_start, sec_count, at_head, at_tail, head_leng
     shift = t * (steps * step_len / t_xy)[:, None]
     out = {k: v[src] for k, v in points.items()}
     out["p"] = out["p"] + shift
-    if "chord" in out:
-        out["chord"] = np.where(steps == 0, out["chord"], 0.0)
+    out["chord"] = np.where(steps == 0, out["chord"], 0.0)
     added = steps != 0
     return out, start, count, ~added, shift, (owner[added], (step_len / t_xy)[added])

@@ -34,15 +34,13 @@ __all__ = ["SectionPoints", "sample_sections"]
 class SectionPoints:
     """Points of S sections, each along +f (tau ascending), flattened.
 
-    Points (N): ``pt_sec``, ``tau``, ``u``, ``v``, ``p`` (N, 3), ``chord`` the larger chord
-    error of the point's two segments. Segments (N - S): ``seg_sec``, ``seg_err``,
-    ``seg_len``, ``seg_start`` (index of the first point). ``sec_start``/``sec_count``.
+    Points (N): ``u``, ``v``, ``p`` (N, 3), ``chord`` the larger chord error of the point's
+    two segments. Segments (N - S): ``seg_sec``, ``seg_err``, ``seg_len``.
+    ``sec_start``/``sec_count``.
     """
 
     sec_start: np.ndarray
     sec_count: np.ndarray
-    pt_sec: np.ndarray
-    tau: np.ndarray
     u: np.ndarray
     v: np.ndarray
     p: np.ndarray
@@ -50,7 +48,6 @@ class SectionPoints:
     seg_sec: np.ndarray
     seg_err: np.ndarray
     seg_len: np.ndarray
-    seg_start: np.ndarray
 
 
 def _arc_at(arc, tau_grid, tau):
@@ -106,8 +103,8 @@ def sample_sections(geom: PassGeometry, d, ta, tb, step, tol: float,
     end_idx = np.cumsum(segs_per_sec) + np.arange(n_sec)
     last_seg = np.cumsum(segs_per_sec) - 1
     out = {}
-    for name, src_a, src_b, shape in (("tau", "ta", "tb", ()), ("u", "ua", "ub", ()),
-                                      ("v", "va", "vb", ()), ("p", "pa", "pb", (3,))):
+    for name, src_a, src_b, shape in (("u", "ua", "ub", ()), ("v", "va", "vb", ()),
+                                      ("p", "pa", "pb", (3,))):
         arr = np.empty((n_pts,) + shape)
         arr[start_idx] = s[src_a]
         arr[end_idx] = s[src_b][last_seg]
@@ -117,10 +114,9 @@ def sample_sections(geom: PassGeometry, d, ta, tb, step, tol: float,
     chord[start_idx + 1] = np.maximum(chord[start_idx + 1], s["err"])
     count = segs_per_sec + 1
     return SectionPoints(
-        sec_start=np.cumsum(count) - count, sec_count=count,
-        pt_sec=np.repeat(np.arange(n_sec), count), tau=out["tau"], u=out["u"], v=out["v"],
+        sec_start=np.cumsum(count) - count, sec_count=count, u=out["u"], v=out["v"],
         p=out["p"], chord=chord, seg_sec=s["sec"], seg_err=s["err"],
-        seg_len=np.linalg.norm(s["pb"] - s["pa"], axis=-1), seg_start=start_idx)
+        seg_len=np.linalg.norm(s["pb"] - s["pa"], axis=-1))
 
 
 def _split(geom, d, seg, m):

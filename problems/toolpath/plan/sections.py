@@ -41,8 +41,9 @@ __all__ = ["Sections", "plane_offsets", "full_plane_sections", "zone_sections"]
 class Sections:
     """Sections of one zone geometry (one feed direction ``alpha``, radians) for several
     individuals: per section its individual ``ind``, ``zone``, plane index ``pass_k``,
-    offset ``d``, stretch [``ta``, ``tb``], maximum step ``step``, gap ``spacing`` and
-    ``side``."""
+    offset ``d``, stretch [``ta``, ``tb``], maximum step ``step``, gap ``spacing``,
+    ``side`` and the footprint's extent past its ends ``run_lo`` / ``run_hi``
+    (:func:`edge_runs`)."""
 
     geom: PassGeometry
     alpha: float
@@ -55,8 +56,8 @@ class Sections:
     step: np.ndarray
     spacing: np.ndarray
     side: np.ndarray
-    run_lo: np.ndarray | None = None
-    run_hi: np.ndarray | None = None
+    run_lo: np.ndarray
+    run_hi: np.ndarray
 
 
 def plane_offsets(lo, hi, delta):
@@ -67,17 +68,17 @@ def plane_offsets(lo, hi, delta):
     n_int = np.where(width > 0, np.maximum(np.ceil(width / delta - 1e-9), 1), 0).astype(int)
     owner, k = ranges(n_int + 1)
     d = lo[owner] + np.minimum(k * delta[owner], width[owner])
-    return (owner, k) + _gaps(owner, k, d, n_int[owner])
+    return (owner, k, d) + _gaps(k, d, n_int[owner])
 
 
-def _gaps(owner, k, d, n_int):
-    """(offsets, gap, side) of planes given plane index k of n_int + 1 per owner."""
+def _gaps(k, d, n_int):
+    """(gap, side) of planes at offsets d, plane index k of n_int + 1 per owner."""
     last = k == n_int
     idx = np.arange(len(d))
     nxt, prv = np.minimum(idx + 1, len(d) - 1), np.maximum(idx - 1, 0)
     gap = np.where(last, d - d[prv], d[nxt] - d)
     side = np.where(n_int == 0, 0, np.where(last, -1, 1))
-    return d, np.where(n_int == 0, 0.0, gap), side
+    return np.where(n_int == 0, 0.0, gap), side
 
 
 def _band(k, gap, side):
@@ -132,8 +133,8 @@ def zone_sections(geom: PassGeometry, layout, z: int, rows, delta, step, spacing
     else:  # the same planes for every individual: one search, repeated
         planes = layout.planes[z]
         kk = np.arange(len(planes))
-        d1, gap1, side1 = _gaps(np.zeros(len(kk), np.int64), kk, planes,
-                                np.full(len(kk), len(planes) - 1))
+        d1 = planes
+        gap1, side1 = _gaps(kk, d1, np.full(len(kk), len(planes) - 1))
         p1, ta1, tb1 = _stretches(geom, layout, z, d1, gap1, side1, kk, resolution, sub_planes)
         lo1, hi1 = edge_runs(geom, d1, *_band(kk, gap1, side1))
         owner, k = ranges(np.full(len(rows), len(planes)))
