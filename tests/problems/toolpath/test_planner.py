@@ -195,3 +195,20 @@ def test_a_pickled_planner_is_small_and_plans_the_same():
     assert len(data) < 2_000_000
     after = pickle.loads(data).plan(genes, place=False)
     assert np.array_equal(before.p, after.p) and np.array_equal(before.seg_len, after.seg_len)
+
+
+def test_row_interpolation_with_a_row_per_query_and_a_shared_table_matches_np_interp():
+    """Both forms the plan uses: queries naming their table (``rows``), values shared by
+    every table (1-D ``fp``), queries at the tables' nodes and outside them; and ``ranges``
+    numbering the rows of blocks laid end to end."""
+    from evoplan.problems.toolpath.geometry.rows import interp_rows, ranges
+
+    rng = np.random.default_rng(11)
+    xp = np.sort(rng.uniform(0, 10, (6, 9)), axis=1)
+    fp = np.linspace(0.0, 1.0, 9) ** 2
+    rows = rng.integers(0, 6, 80)
+    x = np.r_[rng.uniform(-1, 11, 60), xp[rows[60:], rng.integers(0, 9, 20)]]
+    expected = [np.interp(x[i], xp[r], fp) for i, r in enumerate(rows)]
+    assert np.allclose(interp_rows(xp, fp, x, rows), expected, rtol=0, atol=1e-12)
+    owner, pos = ranges(np.array([2, 0, 3]))
+    assert owner.tolist() == [0, 0, 2, 2, 2] and pos.tolist() == [0, 1, 0, 1, 2]
