@@ -35,6 +35,19 @@ def register(name: str, target: str) -> None:
     PROBLEMS[name.lower()] = target
 
 
+def code_module(name: str) -> str | None:
+    """The module that building problem ``name`` would import as user code, or ``None``.
+
+    ``None`` for a registered name (a trusted factory of evoplan's, or one the user registered
+    in this process) and for a pymoo test problem name: those build from data. Used by the
+    readers of results folders (:mod:`evoplan.run_folder`), which must import nothing a
+    folder names.
+    """
+    if name.lower() in PROBLEMS or ":" not in name:
+        return None
+    return name.partition(":")[0]
+
+
 def _factory(name: str) -> Callable[..., Problem] | None:
     """The class (or registered factory) ``name`` stands for; ``None`` for a pymoo test problem name.
 

@@ -127,10 +127,13 @@ def load(path: str) -> MachineConfig:
 
 def plan_from_run(run: Path) -> tuple[dict, dict]:
     """(variables, toolpath problem params) of a finished run folder (a ``toolpath_zoning`` run's
-    params translated to ``toolpath``'s); ConfigError if unusable."""
+    params translated to ``toolpath``'s), read as data (:mod:`evoplan.run_folder`); ConfigError
+    if unusable."""
+    from ..run_folder import read_run_folder
+
+    folder = read_run_folder(run, option="--from-run", can_trust=False)
     try:
-        best = json.loads((run / "best.json").read_text())
-        problem = read_yaml(run / "config.yaml").get("problem", {})
+        problem = folder.problem
         params = dict(problem.get("params", {}) or {})
         if problem.get("name") == "toolpath_zoning":
             from ..problems.toolpath.zoned import zoning_config
@@ -138,9 +141,9 @@ def plan_from_run(run: Path) -> tuple[dict, dict]:
             params = zoning_config(**params)
         elif problem.get("name", "toolpath") != "toolpath":
             raise ValueError(f"problem {problem.get('name')!r} is not a toolpath problem")
-        variables = dict(best["variables"])
+        variables = dict(folder.best["variables"])
         return variables, {k: v for k, v in params.items() if v is not None}
-    except (OSError, ValueError, KeyError, TypeError, AttributeError) as e:
+    except (ValueError, KeyError, TypeError, AttributeError) as e:
         raise ConfigError(f"{run}: --from-run: not a finished toolpath run ({str(e).splitlines()[0]})") from None
 
 

@@ -4,6 +4,7 @@ Three ways to name the toolpath, over the surface of a run file's toolpath probl
 
     evoplan simulate CONFIG --set tool=6 --set stepover=41.729 ... [--out DIR]   # a parameter set
     evoplan simulate --run DIR [--out DIR2]                       # the best plan of a finished run
+                                        # (read as data: a run of user code needs --trust-code MODULE)
     evoplan simulate CONFIG --apt FILE [--out DIR]                # an outside APT CL file
 
 Writes ``simulation.json`` (scallop max / mean / p50 / p90 / p99, gouge max and area, uncut
@@ -32,6 +33,9 @@ def add_parser(sub) -> argparse.ArgumentParser:
     src.add_argument("--set", dest="values", action="append", default=[], metavar="NAME=VALUE",
                      help="a parameter of the plan (repeat for each)")
     src.add_argument("--run", help="a finished run's results folder: simulate its best plan")
+    p.add_argument("--trust-code", dest="trust_code", metavar="MODULE",
+                   help="with --run: allow the folder's problem to import MODULE (user code); "
+                        "without it a results folder runs no code")
     src.add_argument("--apt", help="an APT CL file (GOTO/x,y,z[,i,j,k], CUTTER/, MULTAX)")
     p.add_argument("--out", help="folder for simulation.json and the figures (default: results/simulate-<time>)")
     p.add_argument("--grid", type=float, default=0.1, metavar="MM", help="cell size (default 0.1 mm)")
@@ -53,26 +57,24 @@ def _memory_limit() -> float:
 
 
 def _problem_and_plan(args):
-    from ..runner import prepare_file
+    from ..config import parse_config
+    from ..run_folder import read_run_folder
+    from ..runner import prepare, prepare_file
 
     if args.run:
-        run = Path(args.run)
-        for name in ("config.yaml", "best.json"):
-            if not (run / name).is_file():
-                raise ConfigError(f"{run}: no {name}: not a finished run's results folder")
-        config = str(run / "config.yaml")
-        try:
-            best = json.loads((run / "best.json").read_text(encoding="utf-8"))
-        except (OSError, UnicodeDecodeError, json.JSONDecodeError) as e:
-            raise ConfigError(f"{run / 'best.json'}: unreadable ({e})") from None
-        params = best.get("variables")
+        folder = read_run_folder(args.run, args.trust_code)
+        config = str(folder.config_path)
+        params = folder.best.get("variables")
         if not isinstance(params, dict):
-            raise ConfigError(f"{run / 'best.json'}: variables: the run has no best solution")
+            raise ConfigError(f"{folder.path / 'best.json'}: variables: the run has no best solution")
+        data = dict(folder.config)
+        data.setdefault("name", folder.path.name)
+        prepared = prepare(parse_config(data, config), config)
     else:
         if not args.config:
             raise EvoplanError("simulate: give a run file CONFIG (with --set or --apt), or --run DIR")
         config, params = args.config, None
-    prepared = prepare_file(config)
+        prepared = prepare_file(config)
     problem = prepared.evaluator.problem
     if not callable(getattr(problem, "cl_path", None)):
         raise ConfigError(f"{config}: problem: {prepared.config.problem.name!r} makes no toolpath "
