@@ -1,6 +1,6 @@
 """Abbas' roughing comparison: morphing intermediate layers vs z-level, on the three run files.
 
-    python runs/reproduce/abbas_roughing.py [--out runs/reproduce/abbas_roughing.md]
+    python runs/reproduce/abbas_roughing.py [--out FILE.md | --regenerate]
 
 For each of runs/abbas_gentle.yaml, abbas_narrow_z.yaml and abbas_wide_z.yaml: the same flat
 end mill, max depth of cut D_cut, step-over, feeds, allowances and block stock (top =
@@ -23,6 +23,7 @@ from evoplan.problems.toolpath.export.posts import POSTS, Machine
 from evoplan.problems.toolpath.roughing.operation_set import _kinematics, _tool
 from evoplan.problems.toolpath.roughing.operations import block_stock, roughing
 from evoplan.problems.toolpath.geometry.spec import parse_surface
+from outputs import add_report_options, resolve_report_paths  # runs/reproduce/outputs.py
 
 RUNS = ["abbas_gentle", "abbas_narrow_z", "abbas_wide_z"]
 ABBAS = {"abbas_gentle": ("-", "small reduction"), "abbas_narrow_z": ("-15 %", "small reduction"),
@@ -71,8 +72,9 @@ def table(results: dict) -> str:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", default=str(Path(__file__).with_suffix(".md")))
+    add_report_options(parser)
     args = parser.parse_args()
+    resolve_report_paths(args, __file__)
     results = {name: compare(name) for name in RUNS}
     text = table(results)
     print(text)

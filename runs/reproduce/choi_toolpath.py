@@ -1,7 +1,7 @@
 """Choi's surface through the one toolpath engine, every plan checked by the cut simulation.
 
     python runs/reproduce/choi_toolpath.py [--grid 0.2] [--quick] [--analysis]
-        [--only kmeans,amas] [--tools 1,2] [--k-lz 0.05,0.15,0.3] [--out PATH]
+        [--only kmeans,amas] [--tools 1,2] [--k-lz 0.05,0.15,0.3] [--out PATH | --regenerate]
 
 Choi's surface (Djebali Table 3), tools of R 3.175 mm (ball, torus r 1 and r 1.27, flat),
 3-axis drop-cutter placement, passes spaced adaptively at h_c = 0.254 mm, each zone's feed
@@ -35,8 +35,10 @@ from evoplan.problems.toolpath.simulation import design_grid, residual_metrics, 
 from evoplan.problems.toolpath.simulation.figures import deviation_map_png
 from evoplan.problems.toolpath.tools import parse_tools
 from scipy import ndimage
+from outputs import add_report_options, resolve_report_paths  # runs/reproduce/outputs.py
 
 HERE = Path(__file__).resolve().parent
+FIGURES = {"png": "choi_toolpath_best.png"}  # deviation map of the shortest plan that meets h_c
 H_C, DELTA_L, STEP, ALLOWANCE = 0.254, 40.0, 1.0, 0.5
 EDGE_MM = 1.0  # "max > 1 mm in": the scallop max over the cells this far inside the part
 PUBLISHED = "1717 mm (Choi, ball, iso-scallop), 1183 mm (Djebali, AMAS, torus r 1), " \
@@ -269,10 +271,9 @@ def main() -> None:
     ap.add_argument("--k-lz", default="0.05,0.15,0.3", help="AMAS k_LZ values")
     ap.add_argument("--analysis", action="store_true", help="also where the length goes and "
                     "the levers (h_c scaled, merging) on the torus r 1 plans")
-    ap.add_argument("--out", default=str(HERE / "choi_toolpath.md"))
-    ap.add_argument("--png", default=str(HERE / "choi_toolpath_best.png"),
-                    help="deviation map of the shortest plan that meets h_c ('' for none)")
+    add_report_options(ap, FIGURES)
     args = ap.parse_args()
+    resolve_report_paths(args, __file__, FIGURES)
     surface, tools = parse_surface("choi"), parse_tools(CHOI_TOOLS)
     t0 = time.perf_counter()
     grid = design_grid(surface, args.grid)

@@ -1,6 +1,6 @@
 """VEGA against the GA over all the decisions of a zoned 3-axis plan of Choi's surface.
 
-    python runs/reproduce/choi_vega_vs_ga.py [--quick] [--grid 0.2] [--out results/reproduce/choi_vega_vs_ga]
+    python runs/reproduce/choi_vega_vs_ga.py [--quick] [--grid 0.2] [--out results/reproduce/choi_vega_vs_ga] [--md FILE | --regenerate]
         [--backend processes --workers 2] [--md runs/reproduce/choi_vega_vs_ga.md]
 
 Runs (or resumes: finished runs are reused) the study ``runs/choi_toolpath_vega_vs_ga.yaml``:
@@ -131,8 +131,9 @@ def main() -> None:
     ap.add_argument("--out", default="results/reproduce/choi_vega_vs_ga", help="study folder")
     ap.add_argument("--backend", default="processes")
     ap.add_argument("--workers", type=int, default=2)
-    ap.add_argument("--md", dest="report", default=None, help="report (default: runs/reproduce/choi_vega_vs_ga.md, "
-                    "with --quick the study folder); the PNGs are written beside it")
+    ap.add_argument("--md", dest="report", default=None, help="report (default: the study folder's "
+                    "choi_vega_vs_ga.md; --regenerate: the committed one); the PNGs are written beside it")
+    ap.add_argument("--regenerate", action="store_true", help="rewrite the committed report beside this script")
     args = ap.parse_args()
     t_start = time.perf_counter()
     study = load_study(STUDY)
@@ -143,7 +144,7 @@ def main() -> None:
     grid_mm = 0.25 if args.quick else args.grid
     budget = int(study.budget.evaluations)
     out = Path(args.out + ("_quick" if args.quick else ""))
-    md = Path(args.report) if args.report else (out / "choi_vega_vs_ga.md" if args.quick else HERE / "choi_vega_vs_ga.md")
+    md = Path(args.report) if args.report else (HERE if args.regenerate else out) / "choi_vega_vs_ga.md"
     md.parent.mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
     run_study(study, str(STUDY), out, backend=args.backend, workers=args.workers, progress=False)

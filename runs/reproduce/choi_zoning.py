@@ -1,6 +1,6 @@
 """Choi's surface by zones: single zone, K-means (K = 2..6) and AMAS, against the papers.
 
-    python runs/reproduce/choi_zoning.py [--out runs/reproduce/choi_zoning.md]
+    python runs/reproduce/choi_zoning.py [--out FILE.md | --regenerate]
 
 Choi's surface (Djebali Table 3), R = 3.175 mm, h_c = 0.254 mm, Delta L = 40 mm, 70 x 70
 mesh, AMAS k_CMD = 1, k_LZ = 0.15. Lengths are Djebali Eq. 4 (cutting + (|Z| - 1) Delta L).
@@ -23,6 +23,7 @@ from evoplan.problems.toolpath.plan.zoning.merge import MergeSettings
 from evoplan.problems.toolpath.plan.zoning.plan import plan_zones
 from evoplan.problems.toolpath.plan.zoning.samples import sample_surface
 from evoplan.problems.toolpath.plan.zoning.stepover import ScallopTarget
+from outputs import add_report_options, resolve_report_paths  # runs/reproduce/outputs.py
 
 FOOTER = """Reading the table:
 
@@ -59,9 +60,10 @@ PUBLISHED = {"ball": "1717 (Choi)", 1.0: "1183 (Djebali, AMAS)", 1.27: "1437 (He
 
 def main() -> None:
     ap = argparse.ArgumentParser()
-    ap.add_argument("--out", default=str(Path(__file__).with_suffix(".md")))
+    add_report_options(ap)
     ap.add_argument("--seeds", type=int, default=3, help="AMAS seeds")
     args = ap.parse_args()
+    resolve_report_paths(args, __file__)
     surface = choi_surface()
     samples = sample_surface(surface)
     rows = []

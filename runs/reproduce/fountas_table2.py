@@ -2,7 +2,7 @@
 
     python runs/reproduce/fountas_table2.py [--config runs/fountas_toolpath_vega.yaml]
         [--zoned runs/fountas_toolpath_zoned_vega.yaml] [--grid 0.1] [--quick]
-        [--out runs/reproduce/fountas_table2.md] [--png runs/reproduce/fountas_table2_zoned.png]
+        [--out FILE.md] [--png FILE.png] [--regenerate]
 
 1. The two published parameter sets (Table 2's GA and VEGA rows) evaluated by
    ``problem: toolpath`` of ``--config`` (5-axis, one zone fed along X): CC count, chord
@@ -35,8 +35,10 @@ from evoplan.problems.toolpath.criteria.objective import weighted_sum
 from evoplan.problems.toolpath.simulation import design_grid, simulate
 from evoplan.problems.toolpath.simulation.figures import deviation_map_png
 from evoplan.runner import best_record, prepare_file
+from outputs import add_report_options, resolve_report_paths  # runs/reproduce/outputs.py
 
 HERE = Path(__file__).resolve().parent
+FIGURES = {"png": "fountas_table2_zoned.png"}  # deviation map of the zoned run's best plan
 RUNS = HERE.parent
 ALLOWANCE = 0.5
 PUBLISHED = {  # Fountas Table 2 and "Algorithmic validation"
@@ -204,10 +206,9 @@ def main() -> None:
     ap.add_argument("--zoned", default=str(RUNS / "fountas_toolpath_zoned_vega.yaml"))
     ap.add_argument("--grid", type=float, default=0.1, help="simulation cell (mm)")
     ap.add_argument("--quick", action="store_true", help="zoned run of 4 generations, 0.2 mm grid")
-    ap.add_argument("--out", default=str(HERE / "fountas_table2.md"))
-    ap.add_argument("--png", default=str(HERE / "fountas_table2_zoned.png"),
-                    help="deviation map of the zoned run's best plan ('' for none)")
+    add_report_options(ap, FIGURES)
     args = ap.parse_args()
+    resolve_report_paths(args, __file__, FIGURES)
     grid_mm = 0.2 if args.quick else args.grid
     t_start = time.perf_counter()
     problem = prepare_file(args.config).evaluator.problem

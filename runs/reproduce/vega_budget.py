@@ -24,9 +24,9 @@ import numpy as np
 from evoplan.config import load_config
 from evoplan.engine import run
 from evoplan.runner import prepare
+from outputs import add_report_options, resolve_report_paths  # runs/reproduce/outputs.py
 
 RUNS = Path(__file__).resolve().parents[1]
-OUT = Path(__file__).with_suffix(".md")
 
 
 def one(config, seed: int, virus: dict | None = None) -> dict:
@@ -83,12 +83,15 @@ def cap_check(seeds: range) -> list[str]:
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--seeds", type=int, default=30)
+    add_report_options(ap)
     args = ap.parse_args()
+    resolve_report_paths(args, __file__)
     seeds = range(1, args.seeds + 1)
     text = "\n".join(["# VEGA's evaluation budget on Kubota's function", "",
                       f"`python runs/reproduce/vega_budget.py --seeds {args.seeds}`", ""]
                      + saving(seeds) + cap_check(seeds))
-    OUT.write_text(text)
+    Path(args.out).write_text(text)
+    print(f"wrote {args.out}")
     print(text)
 
 

@@ -13,7 +13,7 @@ For each: per variant the median, quartiles and best final value (Δf where the 
 known), evaluations and cache hits; the Wilcoxon signed-rank tests against the reference
 with Holm's correction; the Friedman test; the Bayesian signed-rank probabilities.
 
-    python runs/reproduce/vega_vs_ga.py [--out results/reproduce] [--toolpath-seeds 30] [--table1]
+    python runs/reproduce/vega_vs_ga.py [--studies results/reproduce] [--out FILE.md | --regenerate] [--toolpath-seeds 30] [--table1]
                                         [--backend processes --workers 2]
 
 Writes ``runs/reproduce/vega_vs_ga.md`` (what it prints).
@@ -33,9 +33,9 @@ from evoplan.study.config import load_study
 from evoplan.study.curves import DEFAULT_TARGETS, reference_values, runtimes, step_history
 from evoplan.study.report import markdown_table
 from evoplan.study.runner import run_study
+from outputs import add_report_options, resolve_report_paths  # runs/reproduce/outputs.py
 
 RUNS = Path(__file__).resolve().parents[1]
-OUT = Path(__file__).with_suffix(".md")
 # Regions of practical equivalence of the Bayesian test, fixed before the runs: on Kubota every
 # value below 1e-9 is the codec floor's neighbourhood (the floor is 6.67e-13); on the toolpath
 # objective (Eq. 9, order 0.01-0.1) a difference below 1e-4 does not matter.
@@ -112,15 +112,17 @@ def one(title: str, path: Path, out: Path, args, rope: float, **changes) -> list
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--out", default="results/reproduce")
+    ap.add_argument("--studies", default="results/reproduce", help="folder of the studies")
+    add_report_options(ap)
     ap.add_argument("--toolpath-seeds", type=int, default=30)
     ap.add_argument("--table1", action="store_true", help="also Fountas' Table 1 factor study")
     ap.add_argument("--backend", default="processes")
     ap.add_argument("--workers", type=int, default=2)
     args = ap.parse_args()
-    root = Path(args.out)
+    resolve_report_paths(args, __file__)
+    root = Path(args.studies)
     lines = ["# VEGA against the GA at equal distinct-evaluation budgets", "",
-             "`python runs/reproduce/vega_vs_ga.py " + (f"--out {args.out} " if args.out != "results/reproduce" else "")
+             "`python runs/reproduce/vega_vs_ga.py " + (f"--studies {args.studies} " if args.studies != "results/reproduce" else "")
              + (f"--toolpath-seeds {args.toolpath_seeds} " if args.toolpath_seeds != 30 else "")
              + ("--table1" if args.table1 else "") + "`", "",
              "Values are Δf = f - f_opt where the optimum is known (Kubota: f_opt = 0; the 23-bit codec "
@@ -137,7 +139,8 @@ def main() -> None:
         lines += one("Fountas Table 1 (one factor at a time, 50 generations)", RUNS / "fountas_viral_parameters.yaml",
                      root / "fountas_viral_parameters", args, KUBOTA_ROPE)
     text = "\n".join(lines) + "\n"
-    OUT.write_text(text)
+    Path(args.out).write_text(text)
+    print(f"wrote {args.out}")
     print(text)
 
 
