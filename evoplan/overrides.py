@@ -15,12 +15,15 @@ from .safe_yaml import load_text, short
 
 
 def apply_settings(data: dict[str, Any], items: list[str], source: str) -> dict[str, Any]:
-    """``data`` with every ``key.path=value`` of ``items`` set (in order; a later one wins)."""
+    """``data`` with every ``key.path=value`` of ``items`` set; a key given twice is refused
+    (which one was meant is not for evoplan to guess)."""
+    seen: dict[str, str] = {}
     for item in items:
         path, sep, text = item.partition("=")
         keys = [k.strip() for k in path.split(".")]
         if not sep or not all(keys):
             raise ConfigError(f"--set {item!r}: expected KEY.PATH=VALUE, e.g. algorithm.population=30")
+        refuse_repeat(seen, ".".join(keys), text)
         value = load_text(text, f"--set {short(item)}") if text.strip() else ""  # limits as a file's
         node = data
         for i, key in enumerate(keys[:-1]):
@@ -33,6 +36,14 @@ def apply_settings(data: dict[str, Any], items: list[str], source: str) -> dict[
             node = child
         node[keys[-1]] = value
     return data
+
+
+def refuse_repeat(seen: dict[str, str], key: str, text: str) -> None:
+    """One-line error when ``key`` was already set by an earlier ``--set`` (``seen``: key -> text)."""
+    if key in seen:
+        raise ConfigError(f"--set {short(key)}: given twice ({short(seen[key])} and {short(text)}): "
+                          "give each key once")
+    seen[key] = text
 
 
 def add_argument(parser) -> None:

@@ -15,6 +15,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import ConfigError, EvoplanError
+from ..overrides import refuse_repeat
 from ..safe_yaml import load_text, short
 
 
@@ -28,10 +29,12 @@ def add_parser(sub) -> argparse.ArgumentParser:
 
 def parse_assignments(items: list[str]) -> dict[str, Any]:
     values: dict[str, Any] = {}
+    seen: dict[str, str] = {}
     for item in items:
         name, sep, text = item.partition("=")
         if not sep or not name.strip():
             raise EvoplanError(f"--set {item!r}: expected NAME=VALUE")
+        refuse_repeat(seen, name.strip(), text)
         values[name.strip()] = load_text(text, f"--set {short(item)}") if text.strip() else text
     return values
 
