@@ -1,6 +1,6 @@
 """``evoplan examples [NAME] [--out DIR]``: the run and study files shipped with evoplan.
 
-Without NAME, lists them (name and first comment line). With NAME (``kubota_vega`` or
+Without NAME, lists them (name and the first sentence of the file's opening comment). With NAME (``kubota_vega`` or
 ``kubota_vega.yaml``), copies that file to DIR (default: the current folder) and prints its
 path, ready for ``evoplan run`` or ``evoplan study``. The files travel inside the installed
 package (``evoplan.examples``, the repository's ``runs/*.yaml``), so this works from a wheel
@@ -30,20 +30,42 @@ def shipped() -> dict[str, resources.abc.Traversable]:
     return dict(sorted(files.items()))
 
 
+_ABBREVIATIONS = ("Eq.", "Eqs.", "Sec.", "al.", "Fig.", "e.g.", "i.e.", "vs.", "No.", "cf.")
+
+
 def summary(text: str) -> str:
-    """The first comment line of a YAML file, or its kind."""
+    """The first sentence of a YAML file's opening comment (whole, never cut), or its kind."""
+    words: list[str] = []
     for line in text.splitlines():
-        if line.startswith("#"):
-            return line.lstrip("# ").strip()
+        if not line.startswith("#"):
+            break
+        body = line.lstrip("#").strip()
+        if not body:
+            if words:
+                break
+            continue
+        words += body.split()
+    for i, word in enumerate(words):
+        if word.endswith((".", "!", "?")) and not word.endswith(_ABBREVIATIONS):
+            return " ".join(words[: i + 1])
+    if words:
+        return " ".join(words)
     return "study" if "\nalgorithms:" in f"\n{text}" else "run"
 
 
 def main(args: argparse.Namespace) -> int:
     files = shipped()
     if not args.name:
+        import shutil
+        import textwrap
+
         width = max(map(len, files), default=0)
+        columns = max(60, shutil.get_terminal_size((100, 24)).columns)
         for name, f in files.items():
-            print(f"{name:<{width}}  {summary(f.read_text())}")
+            lines = textwrap.wrap(summary(f.read_text()), columns - width - 2) or [""]
+            print(f"{name:<{width}}  {lines[0]}")
+            for line in lines[1:]:
+                print(f"{'':<{width}}  {line}")
         return 0
     name = args.name.removesuffix(".yaml")
     if name not in files:

@@ -84,3 +84,16 @@ def test_examples_list_and_copy(tmp_path, capsys):
     assert main(["examples", "kubota_vega", "--out", str(tmp_path)]) == 2  # never overwrites
     assert main(["examples", "nope"]) == 2
     assert "no example 'nope'" in capsys.readouterr().err
+
+
+def test_examples_describe_each_file_by_a_whole_sentence():
+    from evoplan.commands.examples import shipped, summary
+
+    for name, f in shipped().items():
+        text = summary(f.read_text())
+        assert text.endswith((".", "!", "?")), (name, text)  # never cut mid-sentence
+        comment = " ".join(line.lstrip("#").strip() for line in f.read_text().splitlines() if line.startswith("#"))
+        assert " ".join(comment.split()).startswith(text), name
+    assert summary("# Kubota's function (Eq. 13). Second sentence.\n# more\nseed: 1\n") == \
+        "Kubota's function (Eq. 13)."
+    assert summary("seed: 1\nalgorithms: []\n") == "study"
