@@ -65,9 +65,14 @@ class DesignGrid:
         return np.where(self.inside, self.h * self.h / np.where(nz > 1e-12, nz, 1.0), 0.0)
 
 
-def grid_bytes(extent_x: float, extent_y: float, h: float) -> int:
-    """Memory (bytes) the simulation needs for a footprint of that size at cell size h."""
-    return int((extent_x / h + 2) * (extent_y / h + 2) * BYTES_PER_CELL)
+COARSEST_SHARE = 0.1  # the coarsest grid still puts 10 cells across the footprint's narrow side
+
+
+def grid_bytes(extent_x: float, extent_y: float, h: float) -> float:
+    """Memory (bytes) the simulation needs for a footprint of that size at cell size h
+    (a float: a cell size near zero gives ``inf``, which any limit refuses)."""
+    with np.errstate(over="ignore"):
+        return float((extent_x / h + 2) * (extent_y / h + 2) * BYTES_PER_CELL)
 
 
 def footprint(surface: Surface, n: int = 512) -> tuple[float, float, float, float]:
@@ -204,9 +209,15 @@ def _design_grid(surface: Surface, h: float, margin: float, max_bytes: float | N
     xmin, xmax, ymin, ymax = footprint(surface)
     need = grid_bytes(xmax - xmin + 2 * margin, ymax - ymin + 2 * margin, h)
     if max_bytes is not None and need > max_bytes:
+        size = f"{need / 2**30:.1f} GiB" if np.isfinite(need) else "more memory than exists"
         raise ValueError(f"grid_mm: a {h:g} mm grid over {xmax - xmin:.1f} x {ymax - ymin:.1f} mm "
-                         f"needs about {need / 2**30:.1f} GiB, more than the "
+                         f"needs about {size}, more than the "
                          f"{max_bytes / 2**30:.1f} GiB allowed; use a coarser grid")
+    coarsest = COARSEST_SHARE * min(xmax - xmin, ymax - ymin)
+    if h > coarsest:
+        raise ValueError(f"grid_mm: a {h:g} mm grid is too coarse for a part of {xmax - xmin:.1f} x "
+                         f"{ymax - ymin:.1f} mm (at most {coarsest:.3g} mm: {1 / COARSEST_SHARE:g} cells "
+                         "across its narrow side)")
     x0, y0 = xmin - margin + 0.5 * h, ymin - margin + 0.5 * h
     nx = int(np.floor((xmax - xmin + 2 * margin) / h)) + 1
     ny = int(np.floor((ymax - ymin + 2 * margin) / h)) + 1

@@ -94,6 +94,15 @@ def test_a_grid_too_fine_for_memory_is_refused_with_the_estimate(tmp_path, capsy
     assert "GiB" in err and "grid_mm" in err and "\n" not in err
 
 
+@pytest.mark.parametrize("grid, words", [("1e-300", "more memory than exists"), ("1e6", "too coarse")])
+def test_absurd_grids_name_the_grid(grid, words, tmp_path, capsys):
+    out = tmp_path / "absurd"
+    code = main(["simulate", str(RUN), *SETS, "--grid", grid, "--out", str(out)])
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and not out.exists()
+    assert "grid_mm" in err and words in err and "\n" not in err
+
+
 @pytest.mark.parametrize("args", [["--grid", "-1"], ["--set", "tool=99"], []])
 def test_bad_arguments_get_one_line(args, tmp_path, capsys):
     out = tmp_path / "x"
