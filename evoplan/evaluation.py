@@ -9,6 +9,9 @@ are scalarized with a static penalty: ``f + penalty * (sum max(G, 0) + sum |H|)`
 
 from __future__ import annotations
 
+import signal
+import threading
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -39,8 +42,42 @@ def objective_shape_error(e: BaseException) -> ObjectiveShapeError | None:
     return ObjectiveShapeError(f"problem: the objective returned {text.removeprefix('Problem Error:').strip()}")
 
 
+class EvaluationTimeout(Exception):
+    """An evaluation ran past its time (``evaluation.timeout_s``): a failure of its rows."""
+
+
+@contextmanager
+def time_limit(seconds: float | None):
+    """Raise :class:`EvaluationTimeout` in the block after ``seconds`` (a SIGALRM timer).
+
+    Only the main thread of a process receives signals: elsewhere (a Dask worker's thread) the
+    block runs unbounded, and the caller must bound it another way (a process it can kill).
+    """
+    if seconds is None or threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def expire(signum, frame):
+        raise EvaluationTimeout(f"no result within timeout_s = {seconds:g} s")
+
+    previous = signal.signal(signal.SIGALRM, expire)
+    signal.setitimer(signal.ITIMER_REAL, seconds)
+    try:
+        yield
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, previous)
+
+
 class Evaluator:
-    """Turns a pymoo problem into ``X: (n, d) -> Evaluation`` for single-objective search."""
+    """Turns a pymoo problem into ``X: (n, d) -> Evaluation`` for single-objective search.
+
+    ``timeout`` (seconds per row; a study's ``evaluation.timeout_s``) bounds the evaluation in
+    this process's main thread: a batch gets ``timeout`` per row, and when it runs late its rows
+    are evaluated one by one, each with ``timeout``, so only the rows that hang fail.
+    """
+
+    timeout: float | None = None
 
     def __init__(self, problem: Problem, constraint_penalty: float = 1e6) -> None:
         if problem.n_obj != 1:
@@ -53,7 +90,8 @@ class Evaluator:
         self.constrained = bool(problem.n_ieq_constr or problem.n_eq_constr)
 
     def _scalar(self, X: np.ndarray) -> np.ndarray:
-        out = self.problem.evaluate(X, return_as_dictionary=True)
+        with time_limit(None if self.timeout is None else self.timeout * len(X)):
+            out = self.problem.evaluate(X, return_as_dictionary=True)
         f = np.asarray(out["F"], dtype=float).reshape(len(X), -1)[:, 0]
         if self.constrained:
             violation = np.zeros(len(X))

@@ -26,6 +26,8 @@ from .evaluation import Evaluation
 from .process_pool import ProcessPool, _outcome
 
 SCHEDULER_TIMEOUT = 5.0  # seconds to reach a scheduler, and to see its first worker
+POLL = 0.01  # seconds between looks at a wave's futures
+START_SLACK = 1.0  # seconds a task may take to reach a (restarted) worker, beyond its timeout
 
 
 class _Done:
@@ -77,8 +79,24 @@ def _call(fn: Callable, arg):
     return fn(arg)
 
 
-LOST = {"FutureCancelledError", "CancelledError"}  # a task lost with its worker or its input, not failed
 QUIET_WORKERS = {"distributed.worker.profile.enabled": False}
+
+
+LOST = {"FutureCancelledError", "CancelledError", "KilledWorker", "CommClosedError"}  # the worker died
+
+
+def _lost(outcome):
+    """A task lost with its worker (or with the input that worker held) as a ``ChildProcessError``."""
+    if type(outcome).__name__ in LOST:
+        return ChildProcessError(f"the worker died while evaluating these rows ({type(outcome).__name__})")
+    return outcome
+
+
+def _wait(futures: list, limit: float | None) -> None:
+    """Until no future is pending, or ``limit`` seconds (``distributed.wait`` wants a default client)."""
+    end = None if limit is None else time.monotonic() + limit
+    while any(f.status == "pending" for f in futures) and (end is None or time.monotonic() < end):
+        time.sleep(POLL)
 
 
 def worker_slots(client) -> int:
@@ -122,7 +140,7 @@ class DaskPool:
             with dask.config.set(QUIET_WORKERS):
                 self.cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
                                             dashboard_address=None, scheduler_kwargs={"dashboard_address": ":0"},
-                                            silence_logs=logging.ERROR)
+                                            silence_logs=logging.CRITICAL)  # lost workers are handled here
             self.client = Client(self.cluster, set_as_default=False)
         self.workers = worker_slots(self.client) or (workers or 1)
 
@@ -139,45 +157,34 @@ class DaskPool:
         return [obj, self.client.scatter(obj, broadcast=True, hash=False)]
 
     def call(self, handle: list, chunks: list) -> list:
-        """Results of the chunks; chunks lost with a dying worker are run again one at a time, so
-        that only the chunk that kills its worker (Dask's ``KilledWorker``) fails."""
-        results = self._call(handle, chunks)
-        for i in [i for i, r in enumerate(results) if type(r).__name__ in LOST]:
-            results[i] = self._call(handle, [chunks[i]])[0]
+        """One outcome per chunk (its result, or the exception it ended with), in waves of at
+        most one chunk per worker slot, so that with a ``timeout`` every chunk starts at once and
+        none is blamed for the time it waited behind a hanging one (the "timed out after 0 s"
+        of healthy rows). Late chunks are cancelled and their workers restarted (a Python thread
+        cannot be stopped; the nanny replaces the process)."""
+        results: list = []
+        for lo in range(0, len(chunks), max(self.workers, 1)):
+            wave = chunks[lo:lo + max(self.workers, 1)]
+            if handle[1].status != "finished":  # workers restarted (a timeout, a dead worker)
+                handle[1] = self.client.scatter(handle[0], broadcast=True, hash=False)
+            futures = self.client.map(_call, [handle[1]] * len(wave), wave, pure=False)
+            limit = None if self.timeout is None else self.timeout * max(len(c) for c in wave) + START_SLACK
+            _wait(futures, limit)
+            late = [f for f in futures if f.status == "pending"]
+            results += [TimeoutError(f"no result within timeout_s = {self.timeout:g} s per row")
+                        if f in late else _lost(_outcome(f)) for f in futures]
+            if late:
+                self._restart(late)
         return results
 
-    def _call(self, handle: list, chunks: list) -> list:
-        if handle[1].status != "finished":  # workers restarted (a timeout, a dead worker)
-            handle[1] = self.client.scatter(handle[0], broadcast=True, hash=False)
-        # one graph message out and one gather back (not a round trip per chunk)
-        futures = self.client.map(_call, [handle[1]] * len(chunks), chunks, pure=False)
-        if self.timeout is not None:
-            return self._call_with_timeout(futures, chunks)
-        done = iter(self.client.gather(futures, errors="skip"))
-        return [next(done) if f.status == "finished" else _outcome(f) for f in futures]
-
-    def _call_with_timeout(self, futures: list, chunks: list) -> list:
-        """Results of ``futures``; those still running after their time fail, their workers restart."""
-        rounds = -(-len(chunks) // max(self.workers, 1))
-        deadline = time.monotonic() + self.timeout * max((len(c) for c in chunks), default=1) * rounds
-        results = []
-        for f in futures:
+    def _restart(self, late: list) -> None:
+        busy = [w for w, keys in self.client.processing().items() if {f.key for f in late} & set(keys)]
+        self.client.cancel(late, force=True)
+        if busy:
             try:
-                results.append(f.result(timeout=max(deadline - time.monotonic(), 0.0)))
-            except (Exception, SystemExit) as e:  # noqa: BLE001 - a failure of this chunk's rows
-                late = f.status not in ("finished", "error", "cancelled", "lost")
-                results.append(TimeoutError(f"no result within timeout_s = {self.timeout:g} s per row")
-                               if late else e)
-        late = [f for f, r in zip(futures, results) if isinstance(r, TimeoutError)]
-        if late:
-            busy = [w for w, keys in self.client.processing().items() if {f.key for f in late} & set(keys)]
-            self.client.cancel(late, force=True)
-            if busy:  # a Python thread cannot be stopped: restart the workers that run it
-                try:
-                    self.client.restart_workers(busy, timeout=30)
-                except Exception:  # noqa: BLE001 - workers without a nanny cannot restart
-                    pass
-        return results
+                self.client.restart_workers(busy, timeout=30)
+            except Exception:  # noqa: BLE001 - workers without a nanny cannot restart
+                pass
 
     def close(self) -> None:
         self.client.close()
@@ -213,8 +220,10 @@ class ParallelEvaluator:
     is evaluated by the wrapped evaluator on a worker, and the results are put back in row
     order, so the numbers are those of the wrapped evaluator called on the whole batch (for a
     problem whose rows do not depend on each other). The evaluator is shipped to the workers
-    once. A chunk lost to the infrastructure (a worker that died) is a failure of each of its
-    rows, counted like any other, and the run goes on.
+    once. A chunk lost to the infrastructure (a worker that died, a row past ``timeout_s``) has
+    its rows run again one per task, and a row lost beside the one at fault once more alone:
+    only the rows that kill their worker or hang fail (counted like any other failure), so the
+    numbers do not depend on which worker died where, and the run goes on.
     """
 
     def __init__(self, evaluator: Callable[[np.ndarray], Evaluation], pool, chunks: int | None = None) -> None:
@@ -224,18 +233,41 @@ class ParallelEvaluator:
         self._handle = pool.bind(evaluator)
 
     def __call__(self, X: np.ndarray) -> Evaluation:
-        parts = np.array_split(np.asarray(X), min(len(X), self.chunks)) if len(X) else [X]
+        X = np.asarray(X)
+        parts = np.array_split(X, min(len(X), self.chunks)) if len(X) else [X]
+        results = self._outcomes(parts)
+        lost = [i for i, r in enumerate(results) if not isinstance(r, Evaluation) and len(parts[i])]
+        if lost:  # a worker died or a chunk ran late: find the rows at fault, one row per task
+            many = [i for i in lost if len(parts[i]) > 1]
+            single = iter(self._outcomes([row[None, :] for i in many for row in parts[i]]) if many else [])
+            rows = [(row[None, :], results[i] if len(parts[i]) == 1 else next(single))
+                    for i in lost for row in parts[i]]
+            # a row lost beside the one at fault (not late: it had a worker of its own) is run alone
+            rows = [(x, r if isinstance(r, (Evaluation, TimeoutError)) else self._outcomes([x])[0]) for x, r in rows]
+            it = iter(r for _, r in rows)
+            for i in lost:
+                results[i] = _join([next(it) for _ in range(len(parts[i]))], self.pool.name)
+        results = [_join([r], self.pool.name) for r in results]
+        errors = list(dict.fromkeys(m for r in results for m in r.errors))
+        return Evaluation(np.concatenate([r.f for r in results]), np.concatenate([r.failed for r in results]), errors)
+
+    def _outcomes(self, parts: list) -> list:
         outcomes = self.pool.call(self._handle, parts)
         for r in outcomes:
             if isinstance(r, EvoplanError):  # the problem is wrong (e.g. the objective's shape): stop
                 raise r
-        results = [
-            r if isinstance(r, Evaluation) else _failed(len(part), f"evaluation backend {self.pool.name}: "
-                                                                   f"{type(r).__name__}: {r}")
-            for part, r in zip(parts, outcomes)
-        ]
-        errors = list(dict.fromkeys(m for r in results for m in r.errors))
-        return Evaluation(np.concatenate([r.f for r in results]), np.concatenate([r.failed for r in results]), errors)
+        return outcomes
+
+
+def _join(outcomes: list, backend: str) -> Evaluation:
+    """One evaluation from the outcomes of consecutive one-row (or whole-chunk) tasks."""
+    if len(outcomes) == 1 and isinstance(outcomes[0], Evaluation):
+        return outcomes[0]
+    parts = [r if isinstance(r, Evaluation) else
+             _failed(1, f"evaluation backend {backend}: {type(r).__name__}: {str(r).splitlines()[0][:300] if str(r) else ''}")
+             for r in outcomes]
+    return Evaluation(np.concatenate([r.f for r in parts]), np.concatenate([r.failed for r in parts]),
+                      list(dict.fromkeys(m for r in parts for m in r.errors)))
 
 
 def _failed(n: int, message: str) -> Evaluation:

@@ -5,8 +5,8 @@ fork server) with what an expensive, possibly badly behaved black box needs:
 
 - **a worker that dies** (``os._exit``, a segfault, the OOM killer) breaks a
   ``ProcessPoolExecutor`` for good: every pending task fails and no new one is accepted. The
-  pool is rebuilt, and the chunks that were lost are run again one at a time, so only the
-  chunk that kills its worker again is reported as failed (its rows count as failures);
+  pool is rebuilt and the chunks that were lost are reported as lost; the evaluator runs their
+  rows again (see :class:`evoplan.parallel.ParallelEvaluator`) so only the row at fault fails;
 - **a task that hangs**: with ``timeout`` (``evaluation.timeout_s``, seconds per row), a batch
   whose chunks are not back in time has its workers killed; the late chunks fail with a
   ``TimeoutError``, the finished ones keep their results, and the pool is rebuilt;
@@ -17,7 +17,6 @@ fork server) with what an expensive, possibly badly behaved black box needs:
 
 from __future__ import annotations
 
-import math
 import multiprocessing
 import os
 import pickle
@@ -31,6 +30,7 @@ from concurrent.futures.process import BrokenProcessPool
 from typing import Callable, Iterable, Iterator
 
 WATCH_INTERVAL = 0.5  # seconds between a worker's checks that its parent is alive
+START_SLACK = 1.0  # seconds a task may take to reach a (new) worker, beyond its timeout
 
 
 def _outcome(future):
@@ -100,6 +100,11 @@ class ProcessPool:
         self.executor = self._start()
         self.rebuilds += 1
 
+    def recover(self) -> None:
+        """Rebuild the executor if a dead worker broke it (every running task already failed)."""
+        if getattr(self.executor, "_broken", False):
+            self._rebuild()
+
     def submit(self, fn: Callable, *args):
         return self.executor.submit(fn, *args)
 
@@ -110,33 +115,32 @@ class ProcessPool:
         return uuid.uuid4().hex, pickle.dumps(obj, protocol=pickle.HIGHEST_PROTOCOL)
 
     def call(self, handle: tuple[str, bytes], chunks: list) -> list:
-        results = self._run(handle, chunks)
-        lost = [i for i, r in enumerate(results) if isinstance(r, BrokenProcessPool)]
-        if lost:
-            self._rebuild()
-            for i in lost:  # alone, so that only the chunk that kills its worker fails
-                r = self._run(handle, [chunks[i]])[0]
-                if isinstance(r, BrokenProcessPool):
-                    self._rebuild()
-                    r = ChildProcessError("the worker process died while evaluating these rows")
-                results[i] = r
+        """One outcome per chunk, in waves of at most one chunk per worker (so that with a
+        ``timeout`` every chunk starts at once and none is blamed for waiting behind a hanging
+        one). A wave in which a worker died, or a chunk ran late, ends with the pool rebuilt:
+        its finished chunks keep their results, the others fail (``ChildProcessError``,
+        ``TimeoutError``) and :class:`~evoplan.parallel.ParallelEvaluator` runs their rows again
+        on their own to find the one row at fault."""
+        results: list = []
+        for lo in range(0, len(chunks), self.workers):
+            results += self._wave(handle, chunks[lo:lo + self.workers])
         return results
 
-    def _run(self, handle: tuple[str, bytes], chunks: list) -> list:
+    def _wave(self, handle: tuple[str, bytes], chunks: list) -> list:
         try:
             futures = [self.executor.submit(_call_blob, *handle, c) for c in chunks]
-        except BrokenProcessPool as e:  # broken before this batch (a study's task killed it)
-            return [e] * len(chunks)
-        if self.timeout is None:
-            return [_outcome(f) for f in futures]
-        rounds = math.ceil(len(chunks) / self.workers)
-        limit = self.timeout * max((len(c) for c in chunks), default=1) * rounds
+        except BrokenProcessPool:  # broken before this batch (a study's task killed it)
+            self._rebuild()
+            futures = [self.executor.submit(_call_blob, *handle, c) for c in chunks]
+        limit = None if self.timeout is None else self.timeout * max(len(c) for c in chunks) + START_SLACK
         _, late = futures_wait(futures, timeout=limit)
-        if not late:
-            return [_outcome(f) for f in futures]
-        results = [TimeoutError(f"no result within timeout_s = {self.timeout:g} s per row")
-                   if f in late else _outcome(f) for f in futures]
-        self._rebuild()  # the late tasks' workers are still busy: kill them
+        results = [TimeoutError(f"no result within timeout_s = {self.timeout:g} s per row") if f in late
+                   else _outcome(f) for f in futures]
+        died = [i for i, r in enumerate(results) if isinstance(r, BrokenProcessPool)]
+        for i in died:
+            results[i] = ChildProcessError("the worker process died while evaluating these rows")
+        if late or died:
+            self._rebuild()  # late tasks' workers are still busy, a dead worker broke the executor
         return results
 
     def close(self) -> None:

@@ -67,6 +67,7 @@ def run_cell(cell: Cell) -> tuple[dict[str, Any], list[tuple], list[tuple[int, f
     trace: list[tuple[int, float]] = []
     try:
         prepared, state, space = build(cell.run)
+        prepared.evaluator.timeout = cell.timeout_s  # a hanging evaluation fails its rows only
         record["optimum"] = optimum(prepared.evaluator.problem)
         run(state, space, prepared.evaluator, prepared.termination)
         history = [tuple(map(_plain, row)) for row in history_frame(state).itertuples(index=False)]

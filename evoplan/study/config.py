@@ -41,6 +41,10 @@ from .bbob import resolve_problem_name
 
 
 
+MAX_SEEDS = 100_000  # repetitions of a cell; more is a typo, not a study
+MAX_CELLS = 1_000_000  # runs in one study (each is a results row and a file)
+
+
 class _Strict(BaseModel):
     model_config = ConfigDict(extra="forbid", allow_inf_nan=False)
 
@@ -73,6 +77,20 @@ class FactorsConfig(_Strict):
     algorithm: str = Field(description="label of the algorithm entry whose settings vary")
     vary: dict[str, list[Any]] = Field(min_length=1, description="dotted setting -> levels")
 
+    @field_validator("vary")
+    @classmethod
+    def _levels(cls, v):
+        for key, levels in v.items():
+            if not levels:
+                raise ValueError(f"{key}: no levels (give at least one value)")
+        return v
+
+
+class StudyEvaluation(_Strict):
+    """How every cell's evaluations are bounded (the backend is the command line's)."""
+
+    timeout_s: float | None = Field(None, gt=0, le=86400, description="an evaluation past this fails its rows only")
+
 
 class StatisticsConfig(_Strict):
     reference: str | None = Field(None, description="algorithm label the others are tested against; default: first")
@@ -90,7 +108,7 @@ class OutputConfig(_Strict):
 class StudyConfig(_Strict):
     name: SafeName | None = None
     seed: int = Field(0, ge=0)
-    seeds: int = Field(30, ge=1, description="repetitions of every cell")
+    seeds: int = Field(30, ge=1, le=MAX_SEEDS, description="repetitions of every cell")
     budget: BudgetConfig
     problems: list[ProblemSpec] = Field(min_length=1)
     algorithms: list[dict[str, Any]] = Field(min_length=1)
@@ -98,6 +116,7 @@ class StudyConfig(_Strict):
     statistics: StatisticsConfig = StatisticsConfig()
     output: OutputConfig = OutputConfig()
     cache: CacheConfig = CacheConfig()  # every run's evaluation cache and budget counting
+    evaluation: StudyEvaluation = StudyEvaluation()
 
     @model_validator(mode="after")
     def _algorithm_entries(self):
@@ -196,6 +215,11 @@ def parse_study(data: dict[str, Any], source: str = "<study>") -> StudyConfig:
     if study.factors is not None and study.factors.algorithm not in labels:
         raise ConfigError(f"{source}: factors.algorithm: no algorithm labelled {study.factors.algorithm!r} "
                           f"(labels: {', '.join(labels)})")
+    n_variants = len(labels) + (sum(map(len, study.factors.vary.values())) - 1 if study.factors else 0)
+    cells = sum(len(p.dimensions or [1]) for p in study.problems) * n_variants * study.seeds
+    if cells > MAX_CELLS:
+        raise ConfigError(f"{source}: seeds: {study.seeds} repetitions make {cells:.3g} runs, "
+                          f"more than the {MAX_CELLS:,} a study may hold")
     reference = study.statistics.reference
     if reference is not None and reference not in labels:
         raise ConfigError(f"{source}: statistics.reference: no algorithm labelled {reference!r} "

@@ -41,6 +41,7 @@ class Cell:
     seed: int
     budget: int | None
     run: dict[str, Any] = field(hash=False, compare=False)
+    timeout_s: float | None = field(default=None, hash=False, compare=False)  # per evaluated row
 
     @property
     def fingerprint(self) -> str:
@@ -112,7 +113,7 @@ def build_grid(study: StudyConfig, source: str = "<study>") -> list[Cell]:
                            "termination": termination, "output": {"plot": False},
                            "cache": study.cache.model_dump(mode="json")}
                     cells.append(Cell(key, alabel, plabel, dim, factor, level, r, seed,
-                                      termination["evaluations"], run))
+                                      termination["evaluations"], run, study.evaluation.timeout_s))
     keys = [c.key for c in cells]
     if len(set(keys)) != len(keys):
         twice = next(k for k in keys if keys.count(k) > 1)

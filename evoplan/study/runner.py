@@ -12,12 +12,14 @@ from __future__ import annotations
 import json
 import sys
 import time
+from collections import deque
 from functools import lru_cache
 from pathlib import Path
 from typing import Any
 
 from tqdm import tqdm
 
+from ..errors import ConfigError
 from ..parallel import open_pool
 from .analysis import analyze
 from .cell import run_cell
@@ -29,22 +31,46 @@ EXECUTIONS = "execution.json"  # one entry per invocation: cells run and reused,
 
 
 def _lost(cell: Cell, error: BaseException) -> dict[str, Any]:
+    died = type(error).__name__ in DEATHS
+    text = "the worker died running this cell (run alone, it died again)" if died else f"{type(error).__name__}: {error}"
     return {"key": cell.key, **cell.labels(), "budget": cell.budget, "status": "failed",
-            "error": f"backend: {type(error).__name__}: {error}".splitlines()[0][:500]}
+            "error": f"backend: {text}".splitlines()[0][:500]}
+
+
+DEATHS = {"BrokenProcessPool", "KilledWorker", "CommClosedError", "FutureCancelledError", "CancelledError"}
 
 
 def run_cells(todo: list[Cell], folder: StudyFolder, pool, progress: bool | None) -> int:
-    """Run ``todo`` on ``pool``, saving each as it finishes; returns how many failed."""
+    """Run ``todo`` on ``pool``, saving each as it finishes; returns how many failed.
+
+    At most one cell per worker is in flight. A cell whose task is lost (its worker died: a
+    broken process pool fails every running task, Dask gives up with ``KilledWorker``) is run
+    again *alone* once the others in flight are done; lost alone too, it is the one at fault and
+    is recorded as failed. Cells are deterministic, so the others' numbers do not depend on who
+    died where.
+    """
     failed = 0
     bar = tqdm(total=len(todo), unit="run", file=sys.stderr, dynamic_ncols=True,
                disable=None if progress is None else not progress)
+    queue, suspects, running = deque(todo), deque(), {}
+    width = max(getattr(pool, "workers", 1), 1)
     try:
-        futures = {pool.submit(run_cell, cell): cell for cell in todo}
-        for future in pool.as_completed(futures):
-            cell = futures[future]
+        while queue or suspects or running:
+            if suspects and not running:
+                cell = suspects.popleft()
+                running[_submit(pool, cell)] = (cell, True)
+            while queue and not suspects and len(running) < width:
+                cell = queue.popleft()
+                running[_submit(pool, cell)] = (cell, False)
+            future = next(iter(pool.as_completed(list(running))))
+            cell, alone = running.pop(future)
             try:
                 record, history, trace = future.result()
-            except Exception as e:  # noqa: BLE001 - a lost task is a failed run, not the end
+            except Exception as e:  # noqa: BLE001 - a lost task: retried alone, then a failed run
+                _recover(pool)
+                if not alone:
+                    suspects.append(cell)
+                    continue
                 record, history, trace = _lost(cell, e), [], []
             folder.save(cell, record, history, trace)
             failed += record["status"] != "ok"
@@ -53,6 +79,20 @@ def run_cells(todo: list[Cell], folder: StudyFolder, pool, progress: bool | None
     finally:
         bar.close()
     return failed
+
+
+def _submit(pool, cell: Cell):
+    try:
+        return pool.submit(run_cell, cell)
+    except Exception:  # noqa: BLE001 - a pool broken by a dead worker: rebuilt, then submitted
+        _recover(pool)
+        return pool.submit(run_cell, cell)
+
+
+def _recover(pool) -> None:
+    recover = getattr(pool, "recover", None)
+    if recover is not None:
+        recover()
 
 
 def run_study(study: StudyConfig, source: str, out: str | Path, backend: str = "serial",
@@ -66,6 +106,9 @@ def run_study(study: StudyConfig, source: str, out: str | Path, backend: str = "
     stored = {c.key: r for c in cells if (r := folder.load(c)) is not None}
     todo = [c for c in cells if c.key not in stored]
     t_open = time.perf_counter()
+    if study.evaluation.timeout_s is not None and backend == "dask":
+        raise ConfigError(f"{source}: evaluation.timeout_s: a study on --backend dask cannot stop an evaluation "
+                          "(a Dask worker runs it in a thread): use --backend processes or serial")
     pool = open_pool(backend, workers, scheduler) if todo else None
     t0 = time.perf_counter()
     try:

@@ -57,3 +57,12 @@ class Slow(_Sphere):
 class WrongShape(_Sphere):
     def _evaluate(self, X, out, *args, **kwargs):
         out["F"] = np.zeros((len(X), 3))
+
+
+class Fails(_Sphere):
+    """The reference for the others: the same rows fail, by returning NaN."""
+
+    def _evaluate(self, X, out, *args, **kwargs):
+        if self.delay:
+            time.sleep(self.delay)
+        out["F"] = np.where(self.bad(X), np.nan, (X**2).sum(axis=1))[:, None]
