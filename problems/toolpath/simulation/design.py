@@ -23,6 +23,7 @@ from scipy.interpolate import RegularGridInterpolator
 from scipy.spatial import cKDTree
 
 from ..geometry.surface import Jet, PolynomialSurface, Surface, unit_normal
+from .clip import clipped_fractions, footprint_polygon
 from .design_poly import empty_plain, poly_cells
 
 __all__ = ["DesignGrid", "design_grid", "grid_bytes", "BYTES_PER_CELL"]
@@ -46,6 +47,7 @@ class DesignGrid:
     inside: np.ndarray
     u: np.ndarray | None = None
     v: np.ndarray | None = None
+    weight: np.ndarray | None = None
 
     @property
     def shape(self) -> tuple[int, int]:
@@ -60,9 +62,13 @@ class DesignGrid:
         return self.y0 + self.h * np.arange(self.z.shape[0])
 
     def cell_area(self) -> np.ndarray:
-        """(ny, nx) surface area (mm^2) of each cell on the part, 0 off it (h^2 / n_z)."""
+        """(ny, nx) surface area (mm^2) of each cell on the part, 0 off it: w h^2 / n_z, w
+        the share of the cell's square on the part (``weight``, ``clip.py``: a cell that
+        straddles the footprint's edge weighs only its inside part, plus the slivers of
+        its neighbours off the part); without ``weight`` the whole cell."""
         nz = np.abs(self.normal[..., 2])
-        return np.where(self.inside, self.h * self.h / np.where(nz > 1e-12, nz, 1.0), 0.0)
+        w = self.inside if self.weight is None else self.weight
+        return np.where(self.inside, w * self.h * self.h / np.where(nz > 1e-12, nz, 1.0), 0.0)
 
 
 COARSEST_SHARE = 0.1  # the coarsest grid still puts 10 cells across the footprint's narrow side
@@ -225,7 +231,9 @@ def _design_grid(surface: Surface, h: float, margin: float, max_bytes: float | N
     ys = y0 + h * np.arange(ny)
     table = _inverse_table(surface, xmin, xmax, ymin, ymax)
     z, normal, inside, U, V = cells(surface, xs, ys, table)
-    return DesignGrid(float(x0), float(y0), float(h), z, normal, inside, U, V)
+    weight, _ = clipped_fractions(footprint_polygon(surface), float(x0), float(y0), float(h),
+                                  inside)
+    return DesignGrid(float(x0), float(y0), float(h), z, normal, inside, U, V, weight)
 
 
 def analytic_grid(fz, fgrad, bounds, h: float) -> DesignGrid:

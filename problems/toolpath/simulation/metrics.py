@@ -1,6 +1,8 @@
 """What the cut left: scallop, gouge and uncut figures from the residual grid.
 
-Every figure is over the cells on the part, weighted by the cell's surface area:
+Every figure is over the cells on the part, weighted by the cell's surface area clipped
+to the part (``DesignGrid.cell_area``, ``clip.py``: a cell straddling the footprint's edge
+weighs only its inside part):
 
 - material left (scallop): max(residual, 0), clipped at the ``allowance`` (the finishing
   stock: a cell no cutter pose reached keeps exactly that much); max, area-weighted mean
