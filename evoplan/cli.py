@@ -27,14 +27,29 @@ class OneLineParser(argparse.ArgumentParser):
         self.exit(2, f"evoplan: error: {' '.join(message.split())}{hint}\n")
 
 
-def build_parser() -> argparse.ArgumentParser:
+def build_parser(argv: list[str] | None = None) -> argparse.ArgumentParser:
+    """The parser, with the full options of the one command ``argv`` names.
+
+    Every command is listed (``COMMANDS``: name and one-line help), but only the module of the
+    command being run is imported, so ``evoplan --help`` and ``evoplan run --help`` load neither
+    the toolpath engine nor numba. ``argv=None`` builds every command (for documentation).
+    """
     parser = OneLineParser(prog="evoplan", description="Evolutionary toolpath optimization.")
     parser.add_argument("--version", action="version", version=f"evoplan {__version__}")
     sub = parser.add_subparsers(dest="command", required=True)
-    for name in COMMANDS:
-        module = importlib.import_module(f"evoplan.commands.{name}")
-        module.add_parser(sub).set_defaults(func=module.main)
+    chosen = None if argv is None else _command(argv)
+    for name, text in COMMANDS.items():
+        if argv is None or name == chosen:
+            module = importlib.import_module(f"evoplan.commands.{name}")
+            module.add_parser(sub).set_defaults(func=module.main)
+        else:
+            sub.add_parser(name, help=text)
     return parser
+
+
+def _command(argv: list[str]) -> str | None:
+    """The command named in ``argv``: its first word that is not an option."""
+    return next((w for w in argv if not w.startswith("-")), None)
 
 
 def _terminate(signum, frame):
@@ -43,7 +58,8 @@ def _terminate(signum, frame):
 
 
 def main(argv: list[str] | None = None) -> int:
-    args = build_parser().parse_args(argv)
+    argv = sys.argv[1:] if argv is None else list(argv)
+    args = build_parser(argv).parse_args(argv)
     previous = None
     if threading.current_thread() is threading.main_thread():
         previous = signal.signal(signal.SIGTERM, _terminate)

@@ -14,6 +14,7 @@ import pandas as pd
 import pytest
 
 from evoplan.cli import main
+from evoplan.commands import COMMANDS
 
 ROOT = Path(__file__).resolve().parents[1]
 ENV = {**os.environ, "PYTHONPATH": str(ROOT), "MPLBACKEND": "Agg"}
@@ -188,3 +189,30 @@ def test_evaluate_prints_one_parameter_set(tmp_path):
         proc = evoplan("evaluate", cfg, *args)
         assert proc.returncode == 2 and message in proc.stderr
         assert len(proc.stderr.strip().splitlines()) == 1
+
+
+HEAVY = ("numba", "scipy.interpolate", "evoplan.problems.toolpath", "matplotlib", "pandas")
+
+
+@pytest.mark.parametrize("words", [[], ["run"], ["study"], ["evaluate"], ["simulate"], ["examples"]])
+def test_help_loads_no_heavy_module(words):
+    """``evoplan [COMMAND] --help`` builds only the parser it shows: the toolpath engine, numba and
+    scipy are not imported (the parser of every other command is a placeholder)."""
+    code = ("import sys\nfrom evoplan.cli import build_parser\n"
+            f"parser = build_parser({words!r})\n"
+            "print(' '.join(m for m in " + repr(HEAVY) + " if m in sys.modules))\n"
+            "print(' '.join(parser._subparsers._group_actions[0].choices))\n")
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
+    assert r.returncode == 0, r.stderr
+    loaded, commands = r.stdout.splitlines()
+    assert loaded == ""
+    assert commands.split() == list(COMMANDS)
+
+
+def test_every_command_is_listed_and_runs_with_its_own_options(capsys):
+    assert main(["examples"]) == 0  # a command's options come from its module when it is chosen
+    with pytest.raises(SystemExit):
+        main(["--help"])
+    out = capsys.readouterr().out
+    for name, text in COMMANDS.items():
+        assert name in out and text.split()[0] in out

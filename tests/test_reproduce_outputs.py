@@ -20,13 +20,14 @@ def _args(argv, figures=None):
 
 
 def test_a_script_run_writes_under_the_current_directory_and_leaves_the_committed_report(tmp_path):
-    committed = (REPRODUCE / "vega_budget.md").read_bytes()
+    report = ROOT / "runs/reproduce/vega_budget.md"
+    committed = report.read_bytes()
     r = subprocess.run([sys.executable, str(REPRODUCE / "vega_budget.py"), "--seeds", "1"], cwd=tmp_path,
                        capture_output=True, text=True, timeout=120)
     assert r.returncode == 0, r.stderr
-    written = tmp_path / "results" / "reproduce" / "vega_budget.md"
+    written = tmp_path / "results" / "reproduce" / report.name
     assert written.is_file() and "--seeds 1" in written.read_text()
-    assert (REPRODUCE / "vega_budget.md").read_bytes() == committed
+    assert report.read_bytes() == committed
 
 
 def test_regenerate_names_the_files_beside_the_script(tmp_path, monkeypatch):
@@ -38,10 +39,12 @@ def test_regenerate_names_the_files_beside_the_script(tmp_path, monkeypatch):
     assert Path(args.out) == script.with_suffix(".md") and Path(args.png) == script.parent / "table_best.png"
     args = _args([], figures)
     resolve_report_paths(args, str(script), figures)
-    assert Path(args.out) == Path("results/reproduce/table.md") and Path(args.png) == Path("results/reproduce/table_best.png")
-    args = _args(["--out", "x/y.md", "--png", ""], figures)
+    default = Path("results/reproduce")
+    assert Path(args.out) == default / script.with_suffix(".md").name and Path(args.png) == default / "table_best.png"
+    mine = str(Path("x", "report").with_suffix(".md"))
+    args = _args(["--out", mine, "--png", ""], figures)
     resolve_report_paths(args, str(script), figures)
-    assert args.out == "x/y.md" and args.png == "" and (tmp_path / "x").is_dir()
+    assert args.out == mine and args.png == "" and (tmp_path / "x").is_dir()
 
 
 def test_every_reproduction_script_takes_its_paths_from_the_one_rule():

@@ -17,10 +17,11 @@ import numpy as np
 from ..errors import ConfigError, EvoplanError
 from ..overrides import refuse_repeat
 from ..safe_yaml import load_text, short
+from . import COMMANDS
 
 
 def add_parser(sub) -> argparse.ArgumentParser:
-    p = sub.add_parser("evaluate", help="evaluate one parameter set of a run file's problem")
+    p = sub.add_parser("evaluate", help=COMMANDS["evaluate"])
     p.add_argument("config", help="YAML run file whose problem is evaluated")
     p.add_argument("--set", dest="values", action="append", default=[], metavar="NAME=VALUE",
                    help="a variable's value (repeat for each variable)")

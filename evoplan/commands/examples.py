@@ -14,10 +14,11 @@ from importlib import resources
 from pathlib import Path
 
 from ..errors import EvoplanError
+from . import COMMANDS
 
 
 def add_parser(sub) -> argparse.ArgumentParser:
-    p = sub.add_parser("examples", help="list the shipped run and study files, or copy one")
+    p = sub.add_parser("examples", help=COMMANDS["examples"])
     p.add_argument("name", nargs="?", help="the example to copy, e.g. kubota_vega")
     p.add_argument("--out", default=".", help="folder to copy it into (default: here)")
     return p

@@ -23,6 +23,7 @@ from pydantic import Field, ValidationError
 from ..config import _Strict, format_validation_error, read_yaml
 from ..engine import write_atomic
 from ..errors import ConfigError, EvoplanError
+from . import COMMANDS
 
 
 class ToolCfg(_Strict):
@@ -109,7 +110,7 @@ class MachineConfig(_Strict):
 
 
 def add_parser(sub) -> argparse.ArgumentParser:
-    p = sub.add_parser("machine", help="roughing, semi-finish and finish NC programs for one surface")
+    p = sub.add_parser("machine", help=COMMANDS["machine"])
     p.add_argument("config", help="YAML machining file (e.g. runs/abbas_gentle.yaml)")
     p.add_argument("--out", help="results folder (default: results/<name>-<time>)")
     p.add_argument("--from-run", dest="from_run", help="a finished toolpath run: finish with its best plan")

@@ -9,10 +9,11 @@ from pathlib import Path
 
 from ..errors import EvoplanError
 from ..overrides import add_argument
+from . import COMMANDS
 
 
 def add_parser(sub) -> argparse.ArgumentParser:
-    p = sub.add_parser("run", help="run one optimization from a YAML file")
+    p = sub.add_parser("run", help=COMMANDS["run"])
     p.add_argument("config", help="YAML run file, e.g. runs/kubota_vega.yaml (see: evoplan examples)")
     p.add_argument("--out", help="results folder (default: results/<name>-seed<N>-<time>)")
     p.add_argument("--seed", type=int, help="override the file's seed")

@@ -24,10 +24,11 @@ import numpy as np
 
 from ..errors import ConfigError, EvoplanError
 from .evaluate import parse_assignments
+from . import COMMANDS
 
 
 def add_parser(sub) -> argparse.ArgumentParser:
-    p = sub.add_parser("simulate", help="cut a toolpath in simulation and measure scallop and gouge")
+    p = sub.add_parser("simulate", help=COMMANDS["simulate"])
     p.add_argument("config", nargs="?", help="YAML run file whose toolpath problem gives the surface")
     src = p.add_mutually_exclusive_group()
     src.add_argument("--set", dest="values", action="append", default=[], metavar="NAME=VALUE",

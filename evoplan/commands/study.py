@@ -10,10 +10,11 @@ from pathlib import Path
 from ..errors import EvoplanError
 from ..overrides import add_argument
 from ..parallel import POOLS
+from . import COMMANDS
 
 
 def add_parser(sub) -> argparse.ArgumentParser:
-    p = sub.add_parser("study", help="run a comparison study (algorithms x problems x seeds) and analyze it")
+    p = sub.add_parser("study", help=COMMANDS["study"])
     p.add_argument("study", help="YAML study file, e.g. runs/compare_benchmarks.yaml")
     p.add_argument("--out", help="results folder (default: results/<study name>); "
                                  "an unfinished study there is resumed")

@@ -31,6 +31,7 @@ from ..errors import ConfigError, EvoplanError
 from ..limits import mesh_bytes, require
 from ..problems.toolpath.plan.zoning.merge import MergeSettings
 from ..problems.toolpath.plan.zoning.methods import REGISTRY
+from . import COMMANDS
 
 
 class CutterConfig(_Strict):
@@ -72,7 +73,7 @@ ZoneConfig = zone_config_model()  # the built-in methods' model (docs/zoning.md 
 
 
 def add_parser(sub) -> argparse.ArgumentParser:
-    p = sub.add_parser("zone", help="zone a surface and optimize each zone's feed direction")
+    p = sub.add_parser("zone", help=COMMANDS["zone"])
     p.add_argument("config", help="YAML zoning file (e.g. runs/choi_zoning.yaml)")
     p.add_argument("--out", help="results folder (default: results/<name>-<time>)")
     p.add_argument("--method", metavar="NAME",
