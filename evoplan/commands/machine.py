@@ -21,8 +21,8 @@ from typing import Any, Literal
 from pydantic import Field, ValidationError
 
 from ..config import _Strict, format_validation_error, read_yaml
-from ..engine import write_atomic
-from ..errors import ConfigError, EvoplanError
+from ..errors import ConfigError
+from ..folder_writer import check_out, write_folder
 from . import COMMANDS
 
 
@@ -156,16 +156,13 @@ def main(args: argparse.Namespace) -> int:
     require("stl", "exchange", "evoplan machine (surface.stl)")
     cfg = load(args.config)
     out = Path(args.out or Path("results") / f"{cfg.name}-{time.strftime('%Y%m%d-%H%M%S')}")
-    if out.exists() and (not out.is_dir() or any(out.iterdir())):
-        raise EvoplanError(f"{out}: already exists and is not empty: choose another --out")
+    check_out(out)
     plan = plan_from_run(Path(args.from_run)) if args.from_run else None
     try:
         files, summary = build_operations(cfg.model_dump(), Path(args.config).resolve().parent, plan)
     except ValueError as e:
         raise ConfigError(f"{args.config}: {e}") from None
-    out.mkdir(parents=True, exist_ok=True)
-    for name, data in files.items():
-        write_atomic(out / name, data)
+    write_folder(out, files)  # all files or none (a full disk: one line)
     print(json.dumps({"out": str(out), **{op: {k: summary[op][k] for k in ("time_min", "nc_bytes")}
                                           for op in ("roughing", "semifinish", "finish")}}))
     return 0

@@ -106,7 +106,7 @@ def _problem_and_plan(args):
 
 
 def main(args: argparse.Namespace) -> int:
-    from ..engine import write_atomic
+    from ..folder_writer import check_out, write_folder
     from ..problems.toolpath.simulation import design_grid, simulate
     from ..problems.toolpath.simulation.figures import deviation_hist_png, deviation_map_png
 
@@ -115,8 +115,7 @@ def main(args: argparse.Namespace) -> int:
         if not (np.isfinite(value) and value > 0):
             raise EvoplanError(f"--{name} {value}: must be a positive number of mm")
     out = Path(args.out or Path("results") / f"simulate-{time.strftime('%Y%m%d-%H%M%S')}")
-    if out.exists() and (not out.is_dir() or any(out.iterdir())):
-        raise EvoplanError(f"{out}: already exists and is not empty: choose another --out")
+    check_out(out)
     config, problem, path, labels, label = _problem_and_plan(args)
     tolerance = args.tolerance or float(getattr(problem, "simulation_tolerance", 0.01))
     t0 = time.perf_counter()
@@ -138,12 +137,7 @@ def main(args: argparse.Namespace) -> int:
         "deviation_hist.png": deviation_hist_png(grid, sim.residual.values, tolerance=tolerance,
                                                  allowance=args.allowance),
     }
-    try:
-        out.mkdir(parents=True, exist_ok=True)
-        for name, data in files.items():
-            write_atomic(out / name, data)
-    except OSError as e:
-        raise EvoplanError(f"{out}: cannot write the results ({e.strerror or e})") from None
+    write_folder(out, files)  # all files or none (a full disk: one line)
     print(json.dumps(record, indent=2))
     print(f"evoplan: simulation written to {out}", flush=True)
     return 0

@@ -26,8 +26,8 @@ from typing import Any, Literal
 from pydantic import Field, ValidationError, create_model, field_validator
 
 from ..config import SafeName, _Strict, format_validation_error, read_yaml
-from ..engine import write_atomic
-from ..errors import ConfigError, EvoplanError
+from ..folder_writer import check_out, write_folder
+from ..errors import ConfigError
 from ..limits import mesh_bytes, require
 from ..problems.toolpath.plan.zoning.merge import MergeSettings
 from ..problems.toolpath.plan.zoning.methods import REGISTRY
@@ -180,8 +180,7 @@ def main(args: argparse.Namespace) -> int:
 
     cfg = load(args.config, args.method)
     out = Path(args.out or Path("results") / f"{cfg.name}-{time.strftime('%Y%m%d-%H%M%S')}")
-    if out.exists() and (not out.is_dir() or any(out.iterdir())):
-        raise EvoplanError(f"{out}: already exists and is not empty: choose another --out")
+    check_out(out)
     try:
         surface, planner, genes, batch, seconds = build_plan(cfg, Path(args.config).resolve().parent)
         facts = summary(cfg, planner, genes, batch, seconds)
@@ -194,9 +193,7 @@ def main(args: argparse.Namespace) -> int:
                                                     f"{facts['total_length_mm']:.0f} mm")}
     except ValueError as e:
         raise ConfigError(f"{args.config}: {e}") from None
-    out.mkdir(parents=True, exist_ok=True)
-    for name, data in files.items():
-        write_atomic(out / name, data)
+    write_folder(out, files)  # all files or none (a full disk: one line)
     print(json.dumps({"out": str(out), "method": facts["method"],
                       "zones_from_method": facts["info"].get("merge", {}).get("zones_in"),
                       "zones": facts["n_zones"],

@@ -10,6 +10,7 @@ recorded as a failed run with its error, and is run again when the study is resu
 from __future__ import annotations
 
 import json
+import shutil
 import sys
 import time
 from collections import deque
@@ -19,7 +20,7 @@ from typing import Any
 
 from tqdm import tqdm
 
-from ..errors import ConfigError
+from ..errors import ConfigError, EvoplanError
 from ..parallel import open_pool
 from .analysis import analyze
 from .cell import run_cell
@@ -111,9 +112,12 @@ def run_study(study: StudyConfig, source: str, out: str | Path, backend: str = "
                           "(a Dask worker runs it in a thread): use --backend processes or serial")
     pool = open_pool(backend, workers, scheduler) if todo else None
     t0 = time.perf_counter()
+    created = not Path(out).exists()
     try:
         folder.start(study.resolved())
         failed = run_cells(todo, folder, pool, progress) if todo else 0
+    except OSError as e:
+        _disk_error(folder, created, e)
     finally:
         if pool is not None:
             pool.close()
@@ -124,10 +128,22 @@ def run_study(study: StudyConfig, source: str, out: str | Path, backend: str = "
                  "workers": pool.workers if pool is not None else 0, "wall_seconds": round(wall, 2),
                  "startup_seconds": round(t0 - t_open, 2)}
     log = _executions(folder) + [{**execution, "finished": time.strftime("%Y-%m-%d %H:%M:%S")}]
-    folder.write_text(EXECUTIONS, json.dumps(log, indent=1) + "\n")
     history = lru_cache(maxsize=None)(folder.history)
-    analyze(study, folder, records, history, levels, log)
+    try:
+        folder.write_text(EXECUTIONS, json.dumps(log, indent=1) + "\n")
+        analyze(study, folder, records, history, levels, log)
+    except OSError as e:
+        _disk_error(folder, False, e)
     return execution
+
+
+def _disk_error(folder: StudyFolder, created: bool, e: OSError) -> None:
+    """A full (or read-only) disk: one line; a folder this call created with no cell in it goes."""
+    if created and not any(folder.cells.glob("*.json")):
+        shutil.rmtree(folder.out, ignore_errors=True)
+        raise EvoplanError(f"{folder.out}: cannot write ({e.strerror or type(e).__name__}); nothing was kept") from None
+    raise EvoplanError(f"{folder.out}: cannot write ({e.strerror or type(e).__name__}); the finished cells are "
+                       "kept: free space and run the same command again to resume") from None
 
 
 def _executions(folder: StudyFolder) -> list[dict[str, Any]]:

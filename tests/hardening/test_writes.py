@@ -1,0 +1,101 @@
+"""Every folder writer (simulate, machine, zone, study) on a full disk and killed mid-write:
+one line, no folder that looks finished, no stale temporary blocking the next ``--out``."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+from evoplan.folder_writer import write_folder
+
+from .corpus import STUDY, ZONE
+
+ROOT = Path(__file__).resolve().parents[2]
+ENV = {**os.environ, "PYTHONPATH": str(ROOT), "MPLBACKEND": "Agg"}
+MACHINE = (ROOT / "tests/problems/roughing/test_machine_command.py").read_text().split('SMALL = """')[1].split('"""')[0]
+MACHINE = MACHINE.format(top="", method="zlevel", depth=3.0, dialect="heidenhain", limits="[-90, 90]")
+SIM = ["--set", "tool=8", "--set", "stepover=30.0", "--set", "lead=1.0", "--set", "tilt=0.5", "--set", "step=8.0",
+       "--grid", "0.5"]
+
+
+def command(tmp_path: Path, name: str) -> list[str]:
+    if name == "simulate":
+        return ["simulate", str(ROOT / "runs/fountas_toolpath_vega.yaml"), *SIM]
+    text = {"machine": MACHINE, "zone": ZONE, "study": STUDY}[name]
+    path = tmp_path / f"{name}.yaml"
+    path.write_text(text)
+    return [name, str(path)]
+
+
+def evoplan(args, **kw):
+    return subprocess.run([sys.executable, "-m", "evoplan", *args], capture_output=True, text=True, env=ENV,
+                          timeout=300, **kw)
+
+
+@pytest.fixture
+def small_disk(tmp_path):
+    disk = tmp_path / "disk"
+    disk.mkdir()
+    if subprocess.run(["mount", "-t", "tmpfs", "-o", "size=64k", "tmpfs", str(disk)], capture_output=True).returncode:
+        pytest.skip("mounting a small tmpfs needs privileges this machine does not give")
+    try:
+        yield disk
+    finally:
+        subprocess.run(["umount", str(disk)], capture_output=True)
+
+
+@pytest.mark.parametrize("name", ["simulate", "machine", "zone", "study"])
+def test_a_full_disk_is_one_line_and_no_partial_folder(tmp_path, small_disk, name):
+    out = small_disk / "out"
+    proc = evoplan([*command(tmp_path, name), "--out", str(out)])
+    assert proc.returncode != 0 and "Traceback" not in proc.stderr, proc.stderr
+    assert len(proc.stderr.strip().splitlines()) == 1 and "No space left" in proc.stderr, proc.stderr
+    if name == "study" and out.exists():  # a study is resumable cell by cell, like a run's checkpoint
+        assert "resume" in proc.stderr and (out / "study.yaml").is_file()
+    else:
+        assert list(small_disk.iterdir()) == [], list(small_disk.iterdir())
+
+
+def test_the_writer_on_injected_enospc_leaves_nothing(tmp_path, monkeypatch):
+    calls = []
+
+    def full(fd):
+        calls.append(fd)
+        if len(calls) == 2:
+            raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(os, "fsync", full)
+    from evoplan.errors import EvoplanError
+    with pytest.raises(EvoplanError, match="No space left on device"):
+        write_folder(tmp_path / "out", {"a.json": b"{}", "b.png": b"x" * 10})
+    assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("name", ["machine", "zone"])
+def test_a_kill_mid_write_leaves_no_finished_looking_folder(tmp_path, name):
+    """SIGKILL while the files are written (fsync slowed down): ``out`` does not exist, and the
+    next writer into the same ``--out`` succeeds and removes the dead writer's partial folder."""
+    out = tmp_path / "out"
+    slow = tmp_path / "slow"
+    slow.mkdir()
+    (slow / "sitecustomize.py").write_text("import os, time\n_f = os.fsync\n"
+                                           "def fsync(fd):\n    time.sleep(0.5)\n    _f(fd)\nos.fsync = fsync\n")
+    env = {**ENV, "PYTHONPATH": f"{slow}:{ROOT}"}
+    proc = subprocess.Popen([sys.executable, "-m", "evoplan", *command(tmp_path, name), "--out", str(out)],
+                            env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    deadline = time.time() + 240
+    while time.time() < deadline and not any(p.glob("*") for p in tmp_path.glob(".out.*.partial")):
+        time.sleep(0.02)
+    assert proc.poll() is None, "the writer finished before it could be killed"
+    proc.send_signal(signal.SIGKILL)
+    proc.wait()
+    assert not out.exists() and list(tmp_path.glob(".out.*.partial"))
+    again = evoplan([*command(tmp_path, name), "--out", str(out)])
+    assert again.returncode == 0, again.stderr
+    assert (out / "summary.json").is_file() and not list(tmp_path.glob(".out.*.partial"))
