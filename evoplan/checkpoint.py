@@ -41,6 +41,9 @@ from .algorithms.base import Algorithm
 FORMAT = "evoplan-checkpoint/1"
 BIT_GENERATORS = {"PCG64", "PCG64DXSM", "MT19937", "Philox", "SFC64"}
 ARRAY_KINDS = set("biufc")  # bool, int, uint, float, complex: no objects, no strings
+MAX_DEPTH = 64  # nesting of the state's JSON (a run's state is about 8 levels deep)
+MAX_MEMBERS = 10_000  # arrays in one checkpoint
+MAX_BYTES = 8 * 2**30  # all arrays together
 
 
 class NotData(TypeError):
@@ -89,16 +92,27 @@ class _Encoder:
         raise NotData(f"{where}: a {type(value).__module__}.{type(value).__qualname__} object")
 
 
-def _decode(value: Any, arrays, current: Any, where: str) -> Any:
+def _decode(value: Any, arrays, current: Any, where: str, depth: int = 0) -> Any:
     """``value`` as Python data; objects and generators are loaded *into* ``current``."""
+    if depth > MAX_DEPTH:
+        raise CheckpointError(f"{where}: nested deeper than {MAX_DEPTH} levels")
+    out = _decode_value(value, arrays, current, where, depth + 1)
+    _same_kind(current, out, where)
+    return out
+
+
+def _decode_value(value: Any, arrays, current: Any, where: str, depth: int) -> Any:
     if not isinstance(value, dict):
-        return [_decode(v, arrays, None, where) for v in value] if isinstance(value, list) else value
+        return [_decode(v, arrays, None, where, depth) for v in value] if isinstance(value, list) else value
     if "$array" in value:
+        if not isinstance(value["$array"], str) or value["$array"] not in arrays:
+            raise CheckpointError(f"{where}: refers to an array the file does not hold")
         return arrays[value["$array"]]
     if "$tuple" in value:
-        return tuple(_decode(v, arrays, None, where) for v in value["$tuple"])
+        return tuple(_decode(v, arrays, None, where, depth) for v in value["$tuple"])
     if "$dict" in value:
-        return {_freeze(_decode(k, arrays, None, where)): _decode(v, arrays, None, where) for k, v in value["$dict"]}
+        return {_freeze(_decode(k, arrays, None, where, depth)): _decode(v, arrays, None, where, depth)
+                for k, v in value["$dict"]}
     if "$bytes" in value:
         return base64.b64decode(value["$bytes"])
     if "$rng" in value:
@@ -114,10 +128,11 @@ def _decode(value: Any, arrays, current: Any, where: str) -> Any:
         return current  # rebuilt from the run file (same fingerprint)
     if "$data" in value:
         _same_class(current, value["$data"], where)
-        return type(current).from_data(_decode(value["value"], arrays, None, where))
+        return type(current).from_data(_decode(value["value"], arrays, None, where, depth))
     if "$object" in value:
         _same_class(current, value["$object"], where)
-        values = {k: _decode(raw, arrays, getattr(current, k, None), f"{where}.{k}") for k, raw in value["attrs"]["$dict"]}
+        values = {k: _decode(raw, arrays, getattr(current, k, None), f"{where}.{k}", depth)
+                  for k, raw in value["attrs"]["$dict"]}
         if isinstance(current, Algorithm):
             current.load_state_dict(values)
         else:
@@ -125,6 +140,30 @@ def _decode(value: Any, arrays, current: Any, where: str) -> Any:
                 setattr(current, k, v)
         return current
     raise CheckpointError(f"{where}: unexpected entry {sorted(value)[:3]}")
+
+
+def _same_kind(current: Any, stored: Any, where: str) -> None:
+    """A stored value must be of the kind the fresh state holds there (``None`` there: any data)."""
+    if current is None or stored is current:
+        return
+    kinds = ((np.ndarray, np.ndarray), (bool, (bool, np.bool_)), (int, (int, np.integer)),
+             (float, (int, float, np.integer, np.floating)), (str, str), ((list, tuple), (list, tuple)),
+             (dict, dict))
+    for fresh_type, allowed in kinds:
+        if isinstance(current, fresh_type) and not (isinstance(current, int) and fresh_type is float):
+            if isinstance(stored, bool) and fresh_type is not bool:
+                break
+            if isinstance(stored, allowed):
+                if isinstance(current, np.ndarray) and (stored.ndim != current.ndim
+                                                        or stored.dtype.kind != current.dtype.kind):
+                    raise CheckpointError(f"{where}: holds a {stored.ndim}-d {stored.dtype} array where the "
+                                          f"run keeps a {current.ndim}-d {current.dtype} one")
+                return
+            break
+    else:
+        return  # objects (rng, cache, algorithm) are checked by class where they are loaded
+    raise CheckpointError(f"{where}: holds a {type(stored).__name__} where the run keeps a "
+                          f"{type(current).__name__}")
 
 
 def _freeze(key):
@@ -163,12 +202,48 @@ def dumps(state) -> bytes:
     return buf.getvalue()
 
 
+def check_members(path) -> None:
+    """Refuse, before anything is allocated, a checkpoint whose arrays are not what evoplan
+    writes: every member a stored (uncompressed) ``.npy`` whose header declares a numeric dtype
+    and a size its member really holds, and at most ``MAX_BYTES`` in all. A 1 KB file whose
+    header claims 10^12 floats is refused here, not by a ``MemoryError``."""
+    total = 0
+    with zipfile.ZipFile(path) as zf:
+        members = zf.infolist()
+        if len(members) > MAX_MEMBERS:
+            raise CheckpointError(f"{len(members)} arrays, more than a run's state ever holds ({MAX_MEMBERS})")
+        for info in members:
+            name = info.filename
+            if not name.endswith(".npy") or info.compress_type != zipfile.ZIP_STORED:
+                raise CheckpointError(f"member {name[:40]!r}: not an uncompressed .npy array")
+            with zf.open(info) as f:
+                version = np.lib.format.read_magic(f)
+                if version not in ((1, 0), (2, 0), (3, 0)):
+                    raise CheckpointError(f"member {name[:40]!r}: .npy version {version}")
+                reader = np.lib.format.read_array_header_1_0 if version == (1, 0) else np.lib.format.read_array_header_2_0
+                shape, _, dtype = reader(f, max_header_size=10_000)
+            if dtype.kind not in ARRAY_KINDS or dtype.hasobject:
+                raise CheckpointError(f"member {name[:40]!r}: an array of {str(dtype)[:20]} (not numbers)")
+            declared = int(np.prod(shape, dtype=object)) * dtype.itemsize
+            if declared > info.file_size:
+                raise CheckpointError(f"member {name[:40]!r}: its header claims {declared:.3g} bytes "
+                                      f"({shape}), the file holds {info.file_size}")
+            total += declared
+    if total > MAX_BYTES:
+        raise CheckpointError(f"{total / 2**30:.1f} GiB of arrays, more than the {MAX_BYTES / 2**30:.0f} GiB "
+                              "a checkpoint may hold")
+
+
 def read(path) -> tuple[dict, dict[str, np.ndarray]]:
-    """``(meta, arrays)`` of a checkpoint file, its checksum verified; ``CheckpointError`` if not."""
+    """``(meta, arrays)`` of a checkpoint file, its sizes checked (:func:`check_members`) and its
+    checksum verified; ``CheckpointError`` if not."""
     try:
+        check_members(path)
         with np.load(path, allow_pickle=False) as npz:
             arrays = {k: npz[k] for k in npz.files}
     except (OSError, ValueError, zipfile.BadZipFile, EOFError, KeyError) as e:
+        if isinstance(e, CheckpointError):
+            raise
         raise CheckpointError(f"not a readable checkpoint ({type(e).__name__}: {str(e)[:80]})") from None
     body, digest = arrays.pop("__state__", None), arrays.pop("__sha256__", None)
     if body is None or digest is None:
@@ -178,7 +253,9 @@ def read(path) -> tuple[dict, dict[str, np.ndarray]]:
     try:
         meta = json.loads(body.tobytes().decode())
     except (UnicodeDecodeError, json.JSONDecodeError) as e:
-        raise CheckpointError(f"unreadable state ({e})") from None
+        raise CheckpointError(f"unreadable state ({str(e)[:80]})") from None
+    except RecursionError:
+        raise CheckpointError(f"the state is nested deeper than a run's state ever is") from None
     if not isinstance(meta, dict) or meta.get("format") != FORMAT:
         raise CheckpointError(f"not an {FORMAT} file")
     if meta.get("evoplan_version") != __version__:
@@ -187,7 +264,76 @@ def read(path) -> tuple[dict, dict[str, np.ndarray]]:
 
 
 def load_into(meta: dict, arrays: dict[str, np.ndarray], fresh):
-    """The stored state loaded into ``fresh`` (a new RunState built from the same run file)."""
+    """The stored state loaded into ``fresh`` (a new RunState built from the same run file).
+
+    The content is checked as it is loaded, since a checksum proves only that nobody changed the
+    file after it was written, not who wrote it: nesting at most ``MAX_DEPTH`` levels, every
+    referenced array present, and every stored value of the same kind as the fresh state's
+    (an array where an array is, a number where a number is: :func:`_same_kind`). Counters are
+    checked against the run's budget by the caller (``runner.resume_state``)."""
     if not meta.get("resumable"):
         raise CheckpointError(str(meta.get("reason"))[:300])
-    return _decode(meta["state"], arrays, fresh, "state")
+    if "state" not in meta:
+        raise CheckpointError("no state in the checkpoint")
+    try:
+        return _decode(meta["state"], arrays, fresh, "state")
+    except RecursionError:
+        raise CheckpointError("the state is nested deeper than a run's state ever is") from None
+    except (TypeError, ValueError, KeyError, IndexError, AttributeError) as e:
+        if isinstance(e, CheckpointError):
+            raise
+        raise CheckpointError(f"a value of the state does not fit the run ({type(e).__name__}: "
+                              f"{str(e)[:80]})") from None
+
+
+COUNT_LIMIT = 2**53  # integers a float counts exactly: beyond it no run's counter can be
+PER_GENERATION = 8  # evaluations per host (and virus) and generation that no algorithm exceeds
+
+
+def check_counters(state, termination) -> None:
+    """The loaded counters of ``state`` are what a run under ``termination`` can have reached:
+    non-negative, failures and cache hits within the evaluations, at most ``generations``
+    generations, and evaluations within twice the budget (a generation may overshoot it, never
+    double it). A crafted checkpoint with 1e30 evaluations is refused here, before any of it
+    reaches ``best.json``."""
+    generation = state.algorithm.generation
+    counts = {"evaluations": state.evaluations, "failures": state.failures, "cache_hits": state.cache_hits,
+              "stalled": state.stalled, "generation": generation}
+    for name, value in counts.items():
+        if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not 0 <= value < COUNT_LIMIT:
+            raise CheckpointError(f"state.{name}: {str(value)[:30]} is not a count a run can reach")
+    if state.failures > state.evaluations:
+        raise CheckpointError(f"state.failures: {state.failures} failures in {state.evaluations} evaluations")
+    if termination.generations is not None and generation > termination.generations:
+        raise CheckpointError(f"state.generation: {generation}, past the run's {termination.generations} generations")
+    if termination.evaluations is not None and state.evaluations > 2 * termination.evaluations + len(state.algorithm.f):
+        raise CheckpointError(f"state.evaluations: {state.evaluations}, far past the run's budget of "
+                              f"{termination.evaluations}")
+    viruses = len(getattr(state.algorithm, "life", ()))  # VEGA: each virus may infect every host
+    per_generation = PER_GENERATION * (1 + viruses) * max(1, len(state.algorithm.f))
+    for name in ("evaluations", "cache_hits"):
+        if counts[name] > (generation + 1) * per_generation:
+            raise CheckpointError(f"state.{name}: {counts[name]} in {generation} generations of "
+                                  f"{len(state.algorithm.f)} hosts is more than any algorithm asks for")
+    if len(state.history) > generation + 1:
+        raise CheckpointError(f"state.history: {len(state.history)} rows for {generation} generations")
+    _check_values(state)
+
+
+def _check_values(state) -> None:
+    """The state's values that a fresh state leaves empty (``None``, ``[]``) are of their kind."""
+    best = state.best_g
+    if best is not None:
+        width = state.algorithm.G.shape[1] if getattr(state.algorithm, "G", np.zeros((0, 0))).ndim == 2 else None
+        if not isinstance(best, np.ndarray) or best.ndim != 1 or (width and best.size != width):
+            raise CheckpointError(f"state.best_g: not a genotype of this run ({type(best).__name__})")
+    if state.stop_reason is not None and not (isinstance(state.stop_reason, str) and len(state.stop_reason) < 100):
+        raise CheckpointError("state.stop_reason: not a stop reason")
+    if not all(isinstance(e, str) for e in state.errors):
+        raise CheckpointError("state.errors: not a list of messages")
+    for name in ("history", "improvements"):
+        for row in getattr(state, name):
+            if not isinstance(row, (list, tuple)) or not all(
+                    isinstance(v, (int, float, np.integer, np.floating)) and not isinstance(v, bool) for v in row):
+                raise CheckpointError(f"state.{name}: a row that is not numbers")
+

@@ -23,7 +23,7 @@ from tqdm import tqdm
 from . import __version__
 from .adapters import search_space
 from .cache import EvaluationCache
-from .checkpoint import CheckpointError, load_into
+from .checkpoint import CheckpointError, check_counters, load_into
 from .checkpoint import read as read_checkpoint
 from .config import REGISTRY, RunConfig, load_config, read_yaml
 from .engine import HISTORY_COLUMNS, Checkpointer, RunState, Termination, run, write_atomic
@@ -142,7 +142,9 @@ def resume_state(prepared: Prepared, out: Path) -> RunState:
             "resume with the same file and seed"
         )
     try:
-        return load_into(meta, arrays, prepared.new_state())
+        state = load_into(meta, arrays, prepared.new_state())
+        check_counters(state, prepared.termination)
+        return state
     except CheckpointError as e:
         raise ConfigError(f"{path}: cannot resume: {e}") from None
 
