@@ -28,6 +28,7 @@ import numpy as np
 from ..config import parse_config
 from ..engine import RunState, run
 from ..runner import Prepared, history_frame, prepare
+from . import shared
 from .grid import Cell
 
 def best_within(improvements: list[tuple[int, float]], budget: int | None) -> float:
@@ -52,7 +53,9 @@ def optimum(problem) -> float | None:
 
 def build(run_settings: dict[str, Any]) -> tuple[Prepared, RunState, Any]:
     """The prepared run, its fresh state and the space its algorithm searches."""
-    prepared = prepare(parse_config(run_settings, run_settings["name"]), run_settings["name"])
+    config = parse_config(run_settings, run_settings["name"])
+    problem = shared.problem_for(config.problem.name, config.problem.params)  # built once a worker
+    prepared = prepare(config, run_settings["name"], problem=problem)
     return prepared, prepared.new_state(), prepared.search
 
 
