@@ -23,6 +23,7 @@ from pydantic import Field, ValidationError
 from ..config import _Strict, format_validation_error, read_yaml
 from ..errors import ConfigError
 from ..folder_writer import check_out, write_folder
+from ..limits import available_bytes
 from . import COMMANDS
 
 
@@ -159,7 +160,8 @@ def main(args: argparse.Namespace) -> int:
     check_out(out)
     plan = plan_from_run(Path(args.from_run)) if args.from_run else None
     try:
-        files, summary = build_operations(cfg.model_dump(), Path(args.config).resolve().parent, plan)
+        files, summary = build_operations(cfg.model_dump(), Path(args.config).resolve().parent, plan,
+                                          max_bytes=available_bytes())
     except ValueError as e:
         raise ConfigError(f"{args.config}: {e}") from None
     write_folder(out, files)  # all files or none (a full disk: one line)

@@ -37,7 +37,25 @@ USER_MODULES = {
     "h14_exits": "import sys\nsys.exit(3)\n",
 }
 
-GOOD = {"run": RUN, "evaluate": RUN, "study": STUDY, "zone": ZONE}
+MACHINE = """name: small
+surface:
+  type: bezier
+  poles:
+    - [[0, 0, 0], [0, 15, 4], [0, 30, 0]]
+    - [[20, 0, 4], [20, 15, 14], [20, 30, 4]]
+    - [[40, 0, 0], [40, 15, 4], [40, 30, 0]]
+stock: {cell: 1.0}
+roughing: {method: zlevel, max_depth: 3.0, tool: {diameter: 8}}
+semifinish: {stepover: 4, step: 3}
+finish: {params: {tool: 8, stepover: 40, lead: 2, tilt: 0, step: 8}}
+post: {dialect: heidenhain, kinematics: {tilt: {name: B, about: y, limits: [-90, 90]}, layout: head_table}}
+"""
+
+# a toolpath run file for simulate (its plan given by --set)
+SIMULATE = RUN.replace("name: kubota, bits: 12", "name: toolpath, bits: 8")
+SIM_SETS = ["--set", "tool=8", "--set", "stepover=30.0", "--set", "lead=1.0", "--set", "tilt=0.5", "--set", "step=8.0"]
+
+GOOD = {"run": RUN, "evaluate": RUN, "study": STUDY, "zone": ZONE, "machine": MACHINE}
 
 BOMB = "a: &a [x, x, x, x, x, x, x, x, x]\n" + "".join(
     f"{chr(98 + i)}: &{chr(98 + i)} [{', '.join(['*' + chr(97 + i)] * 9)}]\n" for i in range(9))
@@ -136,4 +154,19 @@ SPECIFIC = [
     ("study", "scheduler with processes", STUDY, ["--backend", "processes", "--scheduler", "tcp://x:1"]),
     ("study", "workers 0", STUDY, ["--backend", "processes", "--workers", "0"]),
     ("study", "unknown algorithm", STUDY.replace("name: ga", "name: nope"), []),
+    # settings that size an allocation or a count: refused with the number before any work
+    ("machine", "kinematics max_step 1e-9", MACHINE.replace("layout: head_table}", "layout: head_table, max_step: 1.0e-9}"), []),
+    ("machine", "max_depth 1e-7", MACHINE.replace("max_depth: 3.0", "max_depth: 1.0e-7"), []),
+    ("machine", "stock.cell 1e-5", MACHINE.replace("{cell: 1.0}", "{cell: 1.0e-5}"), []),
+    ("machine", "roughing tool diameter 5000", MACHINE.replace("tool: {diameter: 8}", "tool: {diameter: 5000}"), []),
+    ("machine", "semifinish.step 1e-6", MACHINE.replace("stepover: 4, step: 3", "stepover: 4, step: 1.0e-6"), []),
+    ("simulate", "grid 1e-300", SIMULATE, [*SIM_SETS, "--grid", "1e-300"]),
+    ("simulate", "grid 1e6", SIMULATE, [*SIM_SETS, "--grid", "1e6"]),
+    ("study", "seeds 1e12", STUDY.replace("seeds: 2", "seeds: 1000000000000"), []),
+    ("study", "seeds 1e5 x many problems", STUDY.replace("seeds: 2", "seeds: 100000").replace(
+        "problems: [{name: kubota}]", "problems: [{name: rastrigin, dimensions: [1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11]}]"), []),
+    ("study", "factor with no levels", STUDY + "factors: {algorithm: ga, vary: {population: []}}\n", []),
+    ("study", "timeout_s 0", STUDY + "evaluation: {timeout_s: 0}\n", []),
+    ("evaluate", "duplicate --set", RUN, ["--set", "x=0", "--set", "x=1", "--set", "y=0"]),
+    ("run", "duplicate --set", RUN, ["--set", "seed=1", "--set", "seed=2"]),
 ]

@@ -17,6 +17,7 @@ from ..export.kinematics import Kinematics, ReachError, Rotary
 from ..export.posts import POSTS, Machine, PostError
 from ..export.toolpath import Tool
 from ..geometry.spec import parse_surface
+from .budget import check_sizes
 from .figures import layers_png
 from .operations import ball_on_offset, block_stock, finish_from_plan, roughing
 
@@ -79,9 +80,11 @@ def _finish_plan(surface, cfg: dict, plan):
         raise ValueError(f"{where}.{e}") from None
 
 
-def build_operations(cfg: dict, base_dir=None, plan=None) -> tuple[dict[str, bytes], dict]:
-    """(files, summary) of the whole operation set (module docstring)."""
+def build_operations(cfg: dict, base_dir=None, plan=None, max_bytes: float | None = None) -> tuple[dict[str, bytes], dict]:
+    """(files, summary) of the whole operation set (module docstring); sizes checked first
+    against ``max_bytes`` and the ceilings of :mod:`.budget`."""
     surface = parse_surface(cfg["surface"], "surface", base_dir)
+    check_sizes(cfg, surface, max_bytes)
     post_cfg = cfg["post"]
     if post_cfg["dialect"] not in POSTS:
         raise ValueError(f"post.dialect: unknown post {post_cfg['dialect']!r} (known: {', '.join(sorted(POSTS))})")

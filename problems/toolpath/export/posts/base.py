@@ -36,6 +36,9 @@ def register(cls):
     return cls
 
 
+MAX_BLOCKS = 20_000_000  # moves of one NC program
+
+
 class PostError(ValueError):
     """A toolpath this post or machine cannot write (one line)."""
 
@@ -95,6 +98,11 @@ class Post:
             return Moves(tp.tip.copy(), np.full((len(tp.tip), 2), np.nan), tp.rapid.copy(), feed)
         kin = self.machine.kinematics
         ang, unwind = kin.angles(tp.axis)
+        turns = np.nan_to_num(np.abs(np.diff(ang, axis=0)).max(axis=1, initial=0.0)) if len(ang) > 1 else np.zeros(0)
+        blocks = len(ang) + float(np.maximum(np.ceil(turns / kin.max_step - 1e-9) - 1, 0).sum())
+        if blocks > MAX_BLOCKS:  # estimated before the moves are written out
+            raise ValueError(f"post.kinematics.max_step: {kin.max_step:g} degrees splits toolpath {tp.name!r} into "
+                             f"{blocks:.3g} NC blocks (at most {MAX_BLOCKS:,})")
         tip, angles, rapid, f = [], [], [], []
         c = self.machine.clearance
         for n in range(len(tp.tip)):
