@@ -62,14 +62,38 @@ def pack(G: np.ndarray) -> np.ndarray:
     return np.ascontiguousarray(G.astype(np.float64)).view(np.uint8).reshape(len(G), -1)
 
 
+CODE_BYTES = 6  # genotypes of up to 48 bits are keyed by an exact float64 code
+STRIDE = 29  # coprime with every 8 * CODE_BYTES or less: locus i weighs 2 ** (29 i mod P)
+
+
 def key_dtype(width: int) -> np.dtype:
-    """The dtype of one packed key of ``width`` bytes: ``uint64`` up to 8 bytes, else ``V<width>``."""
+    """The dtype of the key of a ``width``-byte packed genotype: a ``float64`` code up to
+    :data:`CODE_BYTES`, one ``uint64`` up to 8 bytes, else the bytes (``V<width>``)."""
+    if width <= CODE_BYTES:
+        return np.dtype(np.float64)
     return np.dtype(np.uint64) if width <= 8 else np.dtype(f"V{width}")
+
+
+def code_exponents(width: int) -> np.ndarray:
+    """The power of two each of the ``8 * width`` loci weighs in its genotype's float code: a
+    fixed permutation of ``0 .. 8 width - 1``, so the code's low bits (which a Python dict
+    hashes by) come from loci spread over the whole genotype, not from its last ones."""
+    bits = 8 * width
+    return (np.arange(bits) * STRIDE) % bits
+
+
+def genotype_codes(G: np.ndarray) -> np.ndarray:
+    """Exact ``float64`` codes ``G @ 2 ** exponents`` of boolean genotypes of at most 48 bits
+    (distinct genotypes, distinct integers below ``2 ** 48``): one matrix product a batch."""
+    width = -(-G.shape[1] // 8)
+    return G @ np.ldexp(1.0, code_exponents(width)[: G.shape[1]])
 
 
 def to_keys(rows: np.ndarray) -> np.ndarray:
     """Byte rows ``(n, k) uint8`` -> one key each, ``(n,)`` of :func:`key_dtype` ``(k)``."""
     n, k = rows.shape
+    if k <= CODE_BYTES:
+        return genotype_codes(np.unpackbits(rows, axis=1).astype(bool))
     if k <= 8:
         padded = np.zeros((n, 8), dtype=np.uint8)
         padded[:, :k] = rows
@@ -81,14 +105,21 @@ def to_rows(keys: np.ndarray, width: int) -> np.ndarray:
     """The inverse of :func:`to_keys`: ``(n,)`` keys -> ``(n, width) uint8`` byte rows."""
     if keys.size == 0:
         return np.zeros((0, width), dtype=np.uint8)
+    if width <= CODE_BYTES:
+        shifts = code_exponents(width).astype(np.uint64)
+        bits = (keys.astype(np.uint64)[:, None] >> shifts) & np.uint64(1)
+        return np.packbits(bits.astype(bool), axis=1)
     rows = np.ascontiguousarray(keys).view(np.uint8).reshape(len(keys), -1)
     return rows[:, :width].copy()
 
 
 def spread(keys: np.ndarray) -> np.ndarray:
-    """Hashable dictionary keys of packed keys, as a list: ``uint64`` keys are mixed by the
-    (bijective) splitmix64 finalizer first, so that genotypes differing only in their last
-    bits do not share their low bits (Python hashes an int by its value); wider keys are bytes."""
+    """Hashable dictionary keys of packed keys: ``uint64`` keys are mixed by the (bijective)
+    splitmix64 finalizer first, so that genotypes differing only in their last bits do not
+    share their low bits (Python hashes an int by its value); float codes, spread by
+    construction (:func:`code_exponents`), become ints; wider keys are bytes."""
+    if keys.dtype == np.float64:
+        return keys.astype(np.int64)  # exact; a dict hashes ints faster than floats
     if keys.dtype != np.uint64:
         return keys
     x = keys ^ (keys >> np.uint64(30))
@@ -149,11 +180,14 @@ class EvaluationCache:
         with the same genotype (a row repeated inside one batch is evaluated once; a known
         row is its own first). Rows to evaluate: ``isnan(f) & (first == arange(n))``.
         """
-        rows = pack(G)
+        if G.dtype == bool and G.ndim == 2 and 0 < G.shape[1] <= 8 * CODE_BYTES:
+            width, keys = -(-G.shape[1] // 8), genotype_codes(G)
+        else:
+            rows = pack(G)
+            width, keys = rows.shape[1], to_keys(rows)
         if not self.width:
-            self.width = rows.shape[1]
-            self.codes = np.zeros(0, dtype=key_dtype(self.width))
-        keys = to_keys(rows)
+            self.width = width
+            self.codes = np.zeros(0, dtype=key_dtype(width))
         mixed = spread(keys)
         listed = mixed.tolist()
         n = len(listed)
