@@ -21,6 +21,8 @@ continued with ``$`` on the next line.
 
 from __future__ import annotations
 
+import textwrap
+
 import numpy as np
 
 from ..cutters import make_cutter
@@ -60,8 +62,8 @@ def header(*, diameter: float, corner_radius: float, part: str = "EVOPLAN", comm
     if coolant.upper() not in COOLANTS:
         raise ValueError(f"coolant must be one of {', '.join(COOLANTS)}")
     lines = _fit(f"PARTNO/{part.upper()[:60]}")
-    for c in comments or []:
-        lines += _fit(f"$$ {c}"[:MAX_COLUMNS])
+    for c in comments or []:  # split between words, never cut: "$$ " + 69 columns
+        lines += [f"$$ {part}" for part in textwrap.wrap(c, MAX_COLUMNS - 3) or [""]]
     lines += [f"$$ TOOLPOINT {'CENTRE' if tip_is_centre else 'TIP'}", "UNITS/MM", f"LOADTL/{int(tool_number)}"]
     lines += _fit(make_cutter(diameter, corner_radius, key="tool").apt_cutter())
     if spindle_rpm:

@@ -3,7 +3,8 @@
 - ``surface_dxf``: the surface sampled on an n x m parametric grid as one DXF polygon mesh
   (POLYLINE with M x N vertices, the mesh form Abbas' DXF carries), layer ``SURFACE``.
 - ``toolpaths_dxf``: every operation on its own layer, each section (pass or layer) one 3D
-  polyline of its cutting and plunge moves, and the rapids on ``<layer>_RAPID``.
+  polyline of its cutting and plunge moves, and the rapids on ``<layer>_RAPID`` (dashed).
+  Every layer is declared in the LAYER table with its colour.
 - ``surface_stl``: the same grid split into two triangles per cell, binary STL, normals on
   the tool side.
 
@@ -17,6 +18,8 @@ import io
 import numpy as np
 
 from .toolpath import Toolpath
+
+LAYER_COLORS = (8, 1, 3, 5, 6, 4, 2)  # AutoCAD colour indices: grey surface, then red, green, blue...
 
 
 def surface_grid(surface, n: int = 41, m: int = 41) -> np.ndarray:
@@ -37,6 +40,7 @@ def surface_dxf(surface, n: int = 41, m: int = 41) -> bytes:
 
     grid = surface_grid(surface, n, m)
     doc = ezdxf.new("R2010", units=ezdxf.units.MM)
+    doc.layers.add("SURFACE", color=LAYER_COLORS[0])
     mesh = doc.modelspace().add_polymesh((n, m), dxfattribs={"layer": "SURFACE"})
     for i in range(n):
         for j in range(m):
@@ -48,10 +52,13 @@ def toolpaths_dxf(toolpaths: dict[str, Toolpath]) -> bytes:
     """Each operation's sections as 3D polylines on layer NAME, rapids on NAME_RAPID."""
     import ezdxf
 
-    doc = ezdxf.new("R2010", units=ezdxf.units.MM)
+    doc = ezdxf.new("R2010", units=ezdxf.units.MM, setup=["linetypes"])
     msp = doc.modelspace()
-    for name, tp in toolpaths.items():
+    for i, (name, tp) in enumerate(toolpaths.items()):
         layer = name.upper()
+        color = LAYER_COLORS[(i + 1) % len(LAYER_COLORS)]
+        doc.layers.add(layer, color=color)  # declared in the LAYER table, as CAD viewers expect
+        doc.layers.add(f"{layer}_RAPID", color=color, linetype="DASHED")
         for k in np.unique(tp.section[tp.section >= 0]):
             idx = np.flatnonzero(tp.section == k)
             runs = np.split(idx, np.flatnonzero(np.diff(idx) > 1) + 1)

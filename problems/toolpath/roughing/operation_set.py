@@ -19,7 +19,7 @@ from ..export.toolpath import Tool
 from ..geometry.spec import parse_surface
 from .budget import check_sizes
 from .figures import layers_png
-from .operations import ball_on_offset, block_stock, finish_from_plan, roughing
+from .operations import ball_on_offset, block_stock, finish_from_plan, roughing, surface_z_range
 
 PLAN_KEYS = ("feed_rate", "tolerance", "feed_angle", "allowance", "tools", "ranges")
 
@@ -80,6 +80,19 @@ def _finish_plan(surface, cfg: dict, plan):
         raise ValueError(f"{where}.{e}") from None
 
 
+def _check_axes(post_cls, cfg: dict, plan) -> None:
+    """A 3-axis post cannot take a 5-axis finish: refused before any operation is planned."""
+    fin = cfg["finish"]
+    if post_cls.five_axis or fin["source"] != "plan":
+        return
+    params, where = (plan[1], "--from-run") if plan is not None else (fin["problem"], "finish.problem")
+    if params.get("machine", "5axis") == "5axis":
+        others = ", ".join(sorted(name for name, c in POSTS.items() if c.five_axis))
+        raise ValueError(f"post.dialect: {post_cls.name} is a 3-axis post and the finish is 5-axis ({where}."
+                         f"machine: 5axis): use a 5-axis post ({others}), {where}.machine: 3axis, or "
+                         "finish.source: offset")
+
+
 def build_operations(cfg: dict, base_dir=None, plan=None, max_bytes: float | None = None) -> tuple[dict[str, bytes], dict]:
     """(files, summary) of the whole operation set (module docstring); sizes checked first
     against ``max_bytes`` and the ceilings of :mod:`.budget`."""
@@ -89,6 +102,7 @@ def build_operations(cfg: dict, base_dir=None, plan=None, max_bytes: float | Non
     if post_cfg["dialect"] not in POSTS:
         raise ValueError(f"post.dialect: unknown post {post_cfg['dialect']!r} (known: {', '.join(sorted(POSTS))})")
     post_cls = POSTS[post_cfg["dialect"]]
+    _check_axes(post_cls, cfg, plan)
     kin = _kinematics(post_cfg["kinematics"]) if post_cls.five_axis else None
     post = post_cls(Machine(kin, post_cfg["work_offset"], post_cfg["program_number"]))
     st, al, ro = cfg["stock"], cfg["allowances"], cfg["roughing"]
@@ -118,7 +132,7 @@ def build_operations(cfg: dict, base_dir=None, plan=None, max_bytes: float | Non
             plunge_feed=fin["plunge_feed"], name="finish")
     ops = {"roughing": rough, "semifinish": semi, "finish": finish}
     files, summary = {}, {"name": cfg["name"], "post": post.name,
-                          "surface": {"z_min": stock.z_min, "z_max": stock.z_max},
+                          "surface": dict(zip(("z_min", "z_max"), surface_z_range(surface))),
                           "stock": {"z_top": stock.z_top, "x": [float(stock.grid.xs[0]), float(stock.grid.xs[-1])],
                                     "y": [float(stock.grid.ys[0]), float(stock.grid.ys[-1])], "cell": stock.grid.cell}}
     for name, tp in ops.items():

@@ -41,6 +41,27 @@ class Stock:
         return float(self.z_surface.max())
 
 
+def surface_z_range(surface, n: int = 129) -> tuple[float, float]:
+    """(z_min, z_max) of the surface itself: the extremes of an n x n parametric sample, each
+    polished by a bounded quasi-Newton search over (u, v), so they are the surface's, not a
+    Z-map's cell centres (which read the lowest point up to a cell's slope too high)."""
+    from scipy.optimize import minimize
+
+    t = np.linspace(0.0, 1.0, n)
+    u, v = (a.ravel() for a in np.meshgrid(t, t))
+    z = surface.points(u, v)[:, 2]
+    out = []
+    for sign in (1.0, -1.0):
+        i = int(np.argmin(sign * z))
+
+        def height(x, sign=sign):
+            return sign * float(surface.points(np.array([x[0]]), np.array([x[1]]))[0, 2])
+
+        best = minimize(height, [u[i], v[i]], method="L-BFGS-B", bounds=[(0, 1), (0, 1)])
+        out.append(sign * min(best.fun, sign * z[i]))
+    return out[0], out[1]
+
+
 def block_stock(surface, cell: float, top: float | None = None, top_offset: float = 5.0) -> Stock:
     """The block: XY box of the surface (sampled), top at ``top`` or z_max + ``top_offset``.
     ValueError ``stock.top: ...`` if the top is below the surface."""

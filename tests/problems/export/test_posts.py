@@ -112,3 +112,31 @@ def test_every_line_parses_back_to_the_moves(name):
 def test_iso_refuses_tilted_axes():
     with pytest.raises(PostError, match="3-axis"):
         POSTS["iso"](Machine()).program(cone_path())
+
+
+LONG = ("finish: torus D12 r2 (tool 6), step-over 41.729 % of D, lead 2.957 deg, tilt 0.027 deg, "
+        "step 6.338 mm, zones 3, scallop max 0.106 mm")
+
+
+@pytest.mark.parametrize("name", ["iso", "fanuc"])
+def test_long_comments_are_split_between_words_not_cut(name):
+    m = 40
+    x = np.linspace(0, 60, m)
+    tip = np.column_stack([x, np.zeros(m), np.sin(x / 9)])
+    axis = cone_path(m=m).axis[1:-1] if name == "fanuc" else np.tile([0.0, 0.0, 1.0], (m, 1))
+    tp = Toolpath.from_passes("finish", Tool(8, 12, 6, 9000), tip, axis, np.arange(m) * 2 // m,
+                              feed=1200, comments=[LONG])
+    post = POSTS[name](Machine(kin()) if POSTS[name].five_axis else Machine())
+    program = post.program(tp).splitlines()
+    assert max(map(len, program)) <= 72
+    comments = [line[1:-1] for line in program if line.startswith("(") and line.endswith(")")]
+    assert " ".join(LONG.upper().replace("(", "[").replace(")", "]").split()) in " ".join(comments)
+
+
+def test_long_apt_comments_are_split_between_words_not_cut():
+    from evoplan.problems.toolpath.export.apt_write import header
+
+    lines = header(diameter=12, corner_radius=2, comments=[LONG, "short"])
+    assert max(map(len, lines)) <= 72
+    comments = [line[3:] for line in lines if line.startswith("$$ ") and "TOOLPOINT" not in line]
+    assert " ".join(comments) == LONG + " short"

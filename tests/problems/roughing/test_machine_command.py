@@ -3,6 +3,7 @@
 import io
 import json
 import subprocess
+import time
 import sys
 
 import ezdxf
@@ -70,6 +71,12 @@ def test_machine_writes_every_file(tmp_path):
     paths = ezdxf.read(io.StringIO((out / "toolpaths.dxf").read_text()))
     layers = {e.dxf.layer for e in paths.modelspace()}
     assert {"ROUGHING", "SEMIFINISH", "FINISH", "ROUGHING_RAPID"} <= layers
+    declared = {layer.dxf.name for layer in paths.layers}
+    assert layers <= declared  # every layer used is in the LAYER table
+    assert "SURFACE" in {layer.dxf.name for layer in doc.layers}
+    assert paths.layers.get("FINISH_RAPID").dxf.linetype == "DASHED" and "DASHED" in paths.linetypes
+    auditor = paths.audit()
+    assert not auditor.has_errors, [str(e) for e in auditor.errors]
     surf = stl_mesh.Mesh.from_file(str(out / "surface.stl"))
     assert abs(surf.vectors[..., 2].max() - summary["surface"]["z_max"]) < 1e-2 and np.all(surf.normals[:, 2] > 0)
 
@@ -80,14 +87,18 @@ BAD = {
     "unknown_dialect": (dict(dialect="okuma"), "post.dialect: unknown post 'okuma'"),
     "unreachable": (dict(limits="[-3, 3]"), "post.kinematics: finish: point"),
     "stock_below": (dict(top=", top: 5"), "stock.top"),
+    "iso_5axis_finish": (dict(dialect="iso"), "post.dialect: iso is a 3-axis post and the finish is 5-axis"),
 }
 
 
 @pytest.mark.parametrize("case", sorted(BAD))
 def test_bad_input_is_one_line_exit_2_no_files(tmp_path, case, capsys):
     kw, words = BAD[case]
+    t0 = time.perf_counter()
     code = cli_main(["machine", str(config(tmp_path, **kw)), "--out", str(tmp_path / "out")])
     assert code == 2
+    if case == "iso_5axis_finish":  # refused before any operation is planned (was after ~23 s)
+        assert time.perf_counter() - t0 < 5.0
     lines = capsys.readouterr().err.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("evoplan: error: ") and words in lines[0], lines
     assert not (tmp_path / "out").exists()

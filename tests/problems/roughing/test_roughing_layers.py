@@ -101,3 +101,19 @@ def test_zlevel_links_never_cut_deeper_than_the_depth_of_cut():
     checked = StockZMap(grid, z_top).cut(zlevel_path(grid, floor, levels, tool, 7.2, d_cut=d_cut, **kw))
     assert unchecked["max_depth"] > d_cut >= checked["max_depth"]
     assert checked["removed_mm3"] == pytest.approx(unchecked["removed_mm3"], rel=0.02)
+
+
+def test_the_surface_z_range_is_the_surfaces_not_a_zmaps():
+    """summary.json's z_min / z_max: the surface's own extremes (a dense sample cannot beat them),
+    where the Z-map's cell centres read the lowest point too high."""
+    from evoplan.problems.toolpath.geometry.surface import fountas_surface
+    from evoplan.problems.toolpath.roughing.operations import block_stock, surface_z_range
+
+    surface = fountas_surface()
+    z_min, z_max = surface_z_range(surface)
+    t = np.linspace(0, 1, 1501)
+    u, v = (a.ravel() for a in np.meshgrid(t, t))
+    z = surface.points(u, v)[:, 2]
+    assert z.min() - 1e-4 <= z_min <= z.min() + 1e-9
+    assert z.max() - 1e-9 <= z_max <= z.max() + 1e-4
+    assert block_stock(surface, 1.0).z_min > z_min + 1e-3  # what the summary used to report

@@ -9,12 +9,20 @@ move), and at the end a rapid to the safe Z, ``M9``, ``M5``, ``M30``, ``%``. Com
 
 from __future__ import annotations
 
+import textwrap
+
 from ..toolpath import Toolpath
 from .base import Moves, Post, fmt, register
 
 
-def _comment(text: str) -> str:
-    return "(" + text.replace("(", "[").replace(")", "]").upper()[:70] + ")"
+COMMENT_WIDTH = 70  # ( + 70 + ) = the 72 columns a control's editor shows
+
+
+def _comment(text: str) -> list[str]:
+    """``( ... )`` comment lines of at most 72 columns: a long text is split between words
+    (never cut), parentheses inside become brackets."""
+    clean = text.replace("(", "[").replace(")", "]").upper()
+    return ["(" + part + ")" for part in textwrap.wrap(clean, COMMENT_WIDTH) or [""]]
 
 
 @register
@@ -25,9 +33,10 @@ class IsoPost(Post):
 
     def start_lines(self, tp: Toolpath, name: str) -> list[str]:
         t = tp.tool
-        lines = ["%", f"O{self.machine.program_number:04d} {_comment(name)}", _comment(tp.name)]
-        lines += [_comment(c) for c in tp.comments]
-        lines += [_comment(f"TOOL {t.number}: {t.label()}, TIP PROGRAMMED"), "G21 G90 G17 G40 G49 G80",
+        title = _comment(name)
+        lines = ["%", f"O{self.machine.program_number:04d} {title[0]}", *title[1:], *_comment(tp.name)]
+        lines += [line for c in tp.comments for line in _comment(c)]
+        lines += [*_comment(f"TOOL {t.number}: {t.label()}, TIP PROGRAMMED"), "G21 G90 G17 G40 G49 G80",
                   f"T{t.number} M6", f"S{t.spindle_rpm or 0:.0f} M3", "M8", self.machine.work_offset]
         return lines
 
