@@ -64,14 +64,15 @@ class ToolpathProblem(Problem):
                  tolerance=0.01, feed_rate=1000.0, allowance=0.5, weights=None,
                  objectives=None, normalization=None, normalization_samples=64, seed=0,
                  criteria="analytic", simulation=None, ranges=None, fixed=None,
-                 base_dir=None, max_rounds=6, edge_overrun=True):
+                 base_dir=None, max_rounds=6, edge_overrun=True, strategy=None):
         surf = parse_surface(surface, "surface", base_dir)
         self.tool_db = parse_tools(tools, "tools")
         self.machine = machine
         self.planner = build_planner(surf, self.tool_db, machine=machine, placement=placement,
                                      zoning=zoning, spacing=spacing, h_c=h_c, delta_l=delta_l,
                                      feed_angle=feed_angle, tolerance=tolerance,
-                                     max_rounds=max_rounds, edge_overrun=edge_overrun)
+                                     max_rounds=max_rounds, edge_overrun=edge_overrun,
+                                     strategy=strategy)
         self.delta_l = number(delta_l, "delta_l")
         self.feed_rate = number(feed_rate, "feed_rate", positive=True)
         self.allowance = number(allowance, "allowance", positive=True)
@@ -79,7 +80,8 @@ class ToolpathProblem(Problem):
         layouts = self.planner.layouts
         self.genes = GeneSpace(
             self.planner.gene_names, self.tool_db, ranges, fixed,
-            absent=absent_genes(machine, spacing, layouts.method.name),
+            absent=absent_genes(machine, spacing, layouts.method.name,
+                                self.planner.strategy.name),
             zone_gene=layouts.method.gene, zone_range=self._zone_range,
             zone_value=self._zone_value)
         self.weights = parse_weights(weights, "weights")

@@ -86,8 +86,10 @@ def parse_feed_angle(value, key: str = "feed_angle") -> float | None:
 
 def build_planner(surface, tools, *, machine="5axis", placement=None, zoning=None,
                   spacing="stepover", h_c=None, delta_l=40.0, feed_angle=0.0, tolerance=0.01,
-                  max_rounds=6, edge_overrun=True) -> Planner:
-    """The planner of a strategy given as plain data (see the module doc)."""
+                  max_rounds=6, edge_overrun=True, strategy=None) -> Planner:
+    """The planner of a strategy given as plain data (see the module doc); ``strategy``:
+    the pass layout, ``NAME`` or {name: NAME, ...settings} (``plan/strategies``; None:
+    parallel)."""
     delta_l = number(delta_l, "delta_l")
     if delta_l < 0:
         raise ValueError(f"delta_l: must be >= 0 mm, got {delta_l!r}")
@@ -102,7 +104,7 @@ def build_planner(surface, tools, *, machine="5axis", placement=None, zoning=Non
                    zoning=parse_zoning(zoning, delta_l), spacing=spacing, h_c=h_c,
                    tolerance=number(tolerance, "tolerance", positive=True),
                    feed_angle=parse_feed_angle(feed_angle), max_rounds=int(max_rounds),
-                   edge_overrun=_flag(edge_overrun, "edge_overrun"))
+                   edge_overrun=_flag(edge_overrun, "edge_overrun"), strategy=strategy)
 
 
 def _flag(value, key: str) -> bool:
@@ -111,13 +113,16 @@ def _flag(value, key: str) -> bool:
     return value
 
 
-def absent_genes(machine: str, spacing: str, method: str) -> dict[str, str]:
+def absent_genes(machine: str, spacing: str, method: str, strategy: str = "parallel"
+                 ) -> dict[str, str]:
     """Genes a configuration does not have, each with the reason (for one-line errors)."""
     out = {}
+    if strategy != "parallel":
+        out["stepover"] = f"strategy {strategy} spaces its passes from h_c"
     if machine != "5axis":
         out.update(lead=f"machine {machine} has no lead/tilt", tilt=f"machine {machine} has "
                    "no lead/tilt")
-    if spacing != "stepover":
+    if spacing != "stepover" and "stepover" not in out:
         out["stepover"] = f"spacing {spacing} sets the step-over from h_c"
     for other in REGISTRY.values():
         if other.gene is not None and other.name != method and other.gene.name not in out:

@@ -37,7 +37,9 @@ tools):
 - **Lengths**: cutting = sum of ``seg_len``; between consecutive sections of one plan the
   move from the last CC point of one to the first of the next is a link (same zone) or an
   inter-zone move; path = cutting + link + inter-zone; time = path / feed rate (min).
-- **Djebali Eq. 4**: eq4_total = cutting length + (zones - 1) delta_l.
+- **Djebali Eq. 4**: eq4_total = cutting length + (zones - 1) delta_l (the runs past the
+  part's edge included); counted as the papers count, ``length_on_part_mm`` = the moves
+  between CC points on the part and ``length_papers_mm`` = that + (zones - 1) delta_l.
 
 ``objective`` (Fountas Eq. 9) is not computed here: it needs the weights and the
 normalization bounds (``criteria/objective.py``).
@@ -109,17 +111,21 @@ def point_heights(batch, surface, tools, genes, *, allowance, machine=None) -> d
     ind = batch.sec_ind[sec]
     jet = surface.jet(batch.u, batch.v, order=2)
     nrm = unit_normal(jet, surface.normal_sign)
-    alpha = batch.sec_alpha[sec]
-    c3 = np.column_stack([-np.sin(alpha), np.cos(alpha), np.zeros_like(alpha)])
+    curves = batch.pt_cross is not None  # passes that are not planes carry their cross-feed
+    if curves:
+        c3 = batch.pt_cross
+    else:
+        alpha = batch.sec_alpha[sec]
+        c3 = np.column_stack([-np.sin(alpha), np.cos(alpha), np.zeros_like(alpha)])
     bvec = c3 - np.einsum("ij,ij->i", nrm, c3)[:, None] * nrm
     bc = np.linalg.norm(bvec, axis=-1)  # = b.c, b the unit cross-feed tangent
     kappa = normal_curvature(jet, bvec / bc[:, None], surface.normal_sign)
-    w = batch.sec_spacing[sec] / bc
-    side = batch.sec_side[sec]
+    w = (batch.pt_gap if curves else batch.sec_spacing[sec]) / bc
+    side = batch.pt_gap_side if curves else batch.sec_side[sec]
     if _five_axis(genes, machine):
         lead = np.broadcast_to(np.radians(np.asarray(genes["lead"], float)), (n,))
         tilt = np.broadcast_to(np.radians(np.asarray(genes["tilt"], float)), (n,))
-        sigma = np.where(batch.sec_reverse[sec], -1, 1)
+        sigma = 1 if curves else np.where(batch.sec_reverse[sec], -1, 1)
         h = gap_heights(swept_profiles(tools, ti, lead, tilt), ind, sigma * side, w, kappa,
                         allowance)
         r_eff = _per_tool(tools, ti, lambda c, rows: c.effective_radius_lead_tilt(
@@ -229,4 +235,6 @@ def analytic_criteria(batch, surface, tools, genes: dict, *, allowance: float,
     crit["path_length"] = crit["cutting_length"] + crit["link_length"] + crit["interzone_length"]
     crit["machining_time"] = crit["path_length"] / float(feed_rate)
     crit["eq4_total"] = eq4_total(crit["cutting_length"], crit["zones"], delta_l)
+    crit["length_on_part_mm"] = np.bincount(seg_ind, batch.seg_len[chords], n)
+    crit["length_papers_mm"] = eq4_total(crit["length_on_part_mm"], crit["zones"], delta_l)
     return {name: crit[name] for name in ANALYTIC}

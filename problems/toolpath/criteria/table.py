@@ -69,6 +69,11 @@ _TABLE = (
               "path length / feed rate (no rapids, no acceleration limits)"),
     Criterion("eq4_total", "mm", True,
               "Djebali Eq. 4: cutting length + (zones - 1) x delta_l (old name total_length)"),
+    Criterion("length_on_part_mm", "mm", True,
+              "feed moves between CC points on the part, as the papers count (no runs "
+              "past the edge)"),
+    Criterion("length_papers_mm", "mm", True,
+              "Djebali Eq. 4 on the part: length_on_part_mm + (zones - 1) x delta_l"),
     Criterion("objective", "-", False,
               "Fountas Eq. 9: the weighted sum of the normalized weighted criteria",
               family="objective"),

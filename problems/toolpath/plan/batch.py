@@ -28,6 +28,12 @@ point, pass or zone:
   mm), ``seg_len`` the chord length between the CC points (mm), ``seg_cc`` True for a
   chord between two CC points (False for a move past the part's edge, which has no chord
   error to speak of; None: every move is a chord).
+- **Cross-feed of passes that are not planes** (``isoscallop``, ``contour``,
+  ``isoparametric``; None for planes, whose cross-feed is the section's): per point
+  ``pt_cross`` (N, 3) the horizontal unit vector towards the neighbouring pass whose gap
+  the analytic scallop measures, ``pt_gap`` (N,) the XY distance to it along ``pt_cross``
+  (mm), ``pt_gap_side`` (N,) +1 / -1 the side of the travel it lies on (the sign of
+  (z x t) . cross; 0: no neighbouring pass).
 - **Per individual** (n): ``zones`` the number of zones of its plan.
 
 A plan's claimed lengths are computed from these points (``seg_len``): what is claimed is
@@ -75,6 +81,9 @@ class PlanBatch:
     seg_err: np.ndarray
     seg_len: np.ndarray
     seg_cc: np.ndarray | None = None
+    pt_cross: np.ndarray | None = None
+    pt_gap: np.ndarray | None = None
+    pt_gap_side: np.ndarray | None = None
 
     @property
     def pt_ind(self) -> np.ndarray:

@@ -1,0 +1,78 @@
+"""The stages every strategy shares once its sections hold CC points in machining order:
+tool orientation, the edge run-on, the placement (CL points), the ``PlanBatch``.
+
+A strategy (``strategies/``) hands over its sections (per section: individual, zone, pass,
+the plane fields ``d`` / ``alpha`` / ``spacing`` / ``side`` / ``reverse`` where it has
+planes, whether each end lies on the part's edge and how far the band extends past it) and
+its points in machining order (``u``, ``v``, ``p``, ``chord``, the unit travel ``tangent``
+and, for passes that are not planes, the per-point cross-feed ``cross``, ``gap`` and
+``gap_side`` the analytic scallop reads); :func:`finish` does the rest, identically for all.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..geometry.rows import ranges
+from .batch import PlanBatch
+from .overrun import edge_overrun as add_overrun
+
+__all__ = ["finish"]
+
+_POINT_EXTRA = ("cross", "gap", "gap_side")
+
+
+def finish(planner, n, zones, sec, reverse, start, count, pts, seg, tool, genes, place,
+           at_head, at_tail) -> PlanBatch:
+    """The PlanBatch of sections ``sec`` (dict of (S,) arrays: ind, zone, pass_k, d, alpha,
+    spacing, side, run_lo, run_hi; in machining order), ``reverse`` (S,), their points
+    ``start``/``count`` and ``pts`` (u, v, p, chord, normal, tangent; optional cross, gap,
+    gap_side), moves ``seg`` (sec, err, len, cc), ``at_head`` / ``at_tail`` (S,): the
+    section's first / last point lies on the footprint's edge (its travel runs on past it)."""
+    pt_sec, _ = ranges(count)
+    ind_pt = sec["ind"][pt_sec]
+    machine = planner.machine
+    axis = machine.axes(pts["normal"], pts["tangent"], {g: np.asarray(genes[g], float)[ind_pt]
+                                                        for g in machine.genes})
+    pt = {k: pts[k] for k in ("u", "v", "p", "chord", "normal", "tangent") + _POINT_EXTRA
+          if k in pts}
+    pt["axis"] = axis
+    p = pt["p"]
+    on_part, shift = np.ones(len(p), bool), np.zeros_like(p)
+    if planner.edge_overrun:
+        ahead = np.zeros(len(p))
+        for t in np.unique(tool[ind_pt]):
+            sel = tool[ind_pt] == t
+            off = planner.tools.cutter(t).cc_to_tip(p[sel], pt["normal"][sel], axis[sel]) - p[sel]
+            tan = pt["tangent"][sel]
+            ahead[sel] = np.sum(off[:, :2] * tan[:, :2], axis=1) / np.maximum(
+                np.linalg.norm(tan[:, :2], axis=1), 1e-300)
+        wedge = 1.0 if machine.wedge else 0.0  # Machine.wedge
+        pt, start, count, on_part, shift, (x_sec, x_len) = add_overrun(
+            pt, start, count, at_head, at_tail,
+            wedge * np.where(reverse, sec["run_hi"], sec["run_lo"]),
+            wedge * np.where(reverse, sec["run_lo"], sec["run_hi"]), ahead)
+        seg = {"sec": np.r_[seg["sec"], x_sec], "err": np.r_[seg["err"], 0.0 * x_len],
+               "len": np.r_[seg["len"], x_len],
+               "cc": np.r_[seg["cc"], np.zeros(len(x_sec), bool)]}
+        o = np.argsort(seg["sec"], kind="stable")
+        seg = {k: a[o] for k, a in seg.items()}
+        pt_sec, _ = ranges(count)
+        ind_pt = sec["ind"][pt_sec]
+    tip = None
+    if place:
+        tip = np.empty_like(pt["p"])
+        for t in np.unique(tool[ind_pt]):
+            sel = tool[ind_pt] == t
+            tip[sel] = machine.tips(planner.tools.cutter(t), planner.surface,
+                                    pt["p"][sel] - shift[sel], pt["normal"][sel],
+                                    pt["axis"][sel], shift[sel])
+    extra = {k: pt.pop(k) for k in _POINT_EXTRA if k in pt}
+    return PlanBatch(
+        n=n, zones=zones, sec_ind=sec["ind"], sec_zone=sec["zone"], sec_pass=sec["pass_k"],
+        sec_d=sec["d"], sec_alpha=sec["alpha"], sec_reverse=reverse,
+        sec_spacing=sec["spacing"], sec_side=sec["side"], sec_start=start,
+        sec_count=count, pt_sec=pt_sec, tip=tip, on_part=on_part, seg_sec=seg["sec"],
+        seg_err=seg["err"], seg_len=seg["len"], seg_cc=seg["cc"], **pt,
+        pt_cross=extra.get("cross"), pt_gap=extra.get("gap"),
+        pt_gap_side=extra.get("gap_side"))

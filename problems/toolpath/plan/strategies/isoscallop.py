@@ -1,0 +1,161 @@
+"""``isoscallop``: each pass offset from the previous one, point by point, by the cross-feed
+distance that leaves exactly the scallop target h_c there.
+
+Per zone (the planner's zone layout: labels, feed direction alpha, adaptive planes):
+
+- **Master pass**: the section of the footprint by the zone's first parallel plane (the
+  plane at the zone's edge along its optimized direction alpha, ``zones.ZoneLayout.planes``)
+  or the plane at ``master_offset`` mm along the cross-feed c = (-sin a, cos a). Why this
+  and not the zone's border: the border of a zone is a staircase of mesh cells, whose
+  offsets fold at every step, while the plane section is smooth and is fed along the
+  direction Herraz Eq. 3 chose for the zone (the best effective radius); on a plane the
+  offsets of a plane section are planes, so ``isoscallop`` then equals ``parallel`` at the
+  closed-form spacing (tested).
+- **Next pass**: from every point of the pass, a walk on the surface along the cross-feed
+  tangent b = n x t (oriented towards +c) by the width w that leaves a cusp of exactly h_c
+  between the two passes there (``offsets.cross_width``: 3-axis the cutter's exact swept
+  profile in the cross-feed plane, the model parallel planes are spaced by; 5-axis the
+  lead/tilt effective radius and the normal curvature).
+- **Clean-up**: points where the new pass folds back on itself (its segment runs against
+  the previous pass's: a loop of the offset in a concave region) are trimmed; the pass is
+  resampled every ``resample`` mm of arc; points past the footprint are clipped, keeping
+  the crossing point on the edge; the propagation stops when no point is left.
+- **Zone**: a pass is cut wherever it or its offset lies in the zone (the band rule of
+  parallel planes: the two passes around every zone point are cut beside it, so zoned
+  plans keep cutting their borders); where a pass's offset leaves the footprint, the
+  stretch of edge between them is cut as a **border pass** (the last pass on the border).
+
+Passes depend only on (zone layout, tool, h_c, and for 5-axis lead/tilt): memoized.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.ndimage import minimum_filter1d
+
+from ..curves import Piece
+from .base import CurveStrategy
+from .offsets import cross_width, extend_to_edge, march, pass_frame, resample, runs, zone_mask
+
+__all__ = ["IsoScallop", "zone_passes"]
+
+
+def _master(planner, layout, z, offset, ds, key):
+    alpha = layout.alpha[z]
+    lo, hi = layout.extent[z]
+    if offset is None:  # the plane through the middle of the zone's cells
+        geom = planner.geometry(alpha)
+        n, m = layout.labels.shape
+        i, j = np.nonzero(layout.labels == z)
+        p = planner.surface.jet((i + 0.5) / n, (j + 0.5) / m, order=0).p
+        d0 = float(np.median(p[:, :2] @ geom.c))
+    else:
+        d0 = float(offset)
+        if not lo - 1e-9 <= d0 <= hi + 1e-9:
+            raise ValueError(f"{key}.master_offset: {d0:g} mm lies outside zone {z}'s extent "
+                             f"[{lo:.3f}, {hi:.3f}] mm across its feed")
+    geom = planner.geometry(alpha)
+    s_lo, s_hi = geom.pass_extent(np.array([d0]))
+    k = max(int(np.ceil((s_hi[0] - s_lo[0]) / ds)), 2) + 1
+    u, v, _ = geom.locate(np.full(k, d0), np.linspace(0.0, 1.0, k), iters=2)
+    return np.column_stack([u, v])
+
+
+def zone_passes(planner, layout, z, cutter, h_c, lead_tilt=None, offset=None, ds=0.5,
+                max_passes=2000, key="strategy"):
+    """The passes of zone z: [[Piece]] per pass in machining order across the zone (each
+    along +f, before the zig-zag): from the master pass outwards to both sides, the -c side
+    first (farthest pass first), or to +c only from a ``master_offset`` plane."""
+    master = resample(planner.surface, extend_to_edge(
+        _master(planner, layout, z, offset, ds, key)), ds)
+    plus = _propagate(planner, layout, z, cutter, h_c, lead_tilt, master, +1.0, ds, max_passes)
+    if offset is not None:
+        return plus
+    minus = _propagate(planner, layout, z, cutter, h_c, lead_tilt, master, -1.0, ds,
+                       max_passes)[1:]
+    return minus[::-1] + plus
+
+
+def _propagate(planner, layout, z, cutter, h_c, lead_tilt, master, sign, ds, max_passes,
+               window=2.0):
+    surface, alpha = planner.surface, layout.alpha[z]
+    c0 = sign * np.array([-np.sin(alpha), np.cos(alpha), 0.0])
+    front = [master]
+    out = []
+    for k in range(max_passes):
+        pieces, new_front, border = [], [], []
+        for uv in front:
+            if len(uv) < 2:
+                continue
+            jet, n, t, b = pass_frame(surface, uv)
+            b *= np.where(b[:, :2] @ c0[:2] >= 0, 1.0, -1.0)[:, None]
+            w = cross_width(surface, cutter, h_c, jet, t, b, lead_tilt)
+            # the smallest width within +-window mm along the pass: never wider than h_c
+            # allows, and a torus's widths (which change fast with the slope) do not crease
+            # the next pass into loops
+            w = minimum_filter1d(w, 2 * int(round(window / ds)) + 1, mode="nearest")
+            nxt = march(surface, uv, b, w)
+            p_new = surface.jet(nxt[:, 0], nxt[:, 1], order=0).p
+            dxy = p_new[:, :2] - jet.p[:, :2]
+            gap = np.linalg.norm(dxy, axis=1)
+            cross = np.column_stack([dxy / np.maximum(gap, 1e-300)[:, None],
+                                     np.zeros(len(uv))])
+            in_box = np.all((nxt >= 0) & (nxt <= 1), axis=1)
+            here = zone_mask(layout.labels, z, uv)
+            band = here | (zone_mask(layout.labels, z, nxt) & in_box)
+            for a, e in runs(band):
+                pieces.append(Piece(uv[a:e], cross[a:e], gap[a:e], z, k, alpha))
+            for a, e in runs(~in_box & here):  # the offset leaves the footprint: the edge
+                edge = np.clip(nxt[a:e], 0.0, 1.0)
+                if e - a >= 2:
+                    border.append(Piece(edge, np.zeros((e - a, 3)), np.zeros(e - a), z, k + 1,
+                                        alpha, (True, True)))
+            # the next front: folds trimmed, clipped to the footprint (crossings kept)
+            seg_old, seg_new = np.diff(jet.p, axis=0), np.diff(p_new, axis=0)
+            fold = np.einsum("ij,ij->i", seg_old, seg_new) <= 0
+            ok = np.r_[~fold, True] & np.r_[True, ~fold]
+            keep = in_box.copy()
+            keep[:-1] |= in_box[1:]
+            keep[1:] |= in_box[:-1]
+            for a, e in runs(ok & keep):
+                if e - a >= 2:
+                    new_front.append(resample(surface, extend_to_edge(
+                        np.clip(nxt[a:e], 0.0, 1.0)), ds))
+        for pc in pieces:
+            pc.edge = (bool(np.any((pc.uv[0] <= 1e-7) | (pc.uv[0] >= 1 - 1e-7))),
+                       bool(np.any((pc.uv[-1] <= 1e-7) | (pc.uv[-1] >= 1 - 1e-7))))
+        if pieces:
+            out.append(pieces)
+        if border:
+            out.append(border)
+        front = [f for f in new_front if np.any(np.all((f > 1e-9) & (f < 1 - 1e-9), axis=1))]
+        if not front:
+            break
+    return out
+
+
+def zigzag(passes):
+    """Pieces in machining order: every other pass reversed (its pieces from far to near)."""
+    flat = []
+    for r, pieces in enumerate(passes):
+        if r % 2:
+            pieces = [Piece(pc.uv[::-1], pc.cross[::-1], pc.gap[::-1], pc.zone, pc.pass_k,
+                            pc.alpha, pc.edge[::-1]) for pc in pieces[::-1]]
+        flat.extend(pieces)
+    return flat
+
+
+class IsoScallop(CurveStrategy):
+    name = "isoscallop"
+    KEYS = {"master_offset": None, "resample": 0.5}
+
+    def __init__(self, settings=None, key="strategy"):
+        super().__init__(settings, key)
+        ds = self.settings["resample"]
+        if not (isinstance(ds, (int, float)) and ds > 0):
+            raise ValueError(f"{key}.resample: expected a positive number of mm, got {ds!r}")
+
+    def zone_passes(self, planner, layout, z, cutter, lead_tilt):
+        return zigzag(zone_passes(planner, layout, z, cutter, planner.h_c, lead_tilt,
+                                  self.settings["master_offset"],
+                                  float(self.settings["resample"]), key=self.key))

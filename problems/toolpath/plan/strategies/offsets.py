@@ -1,0 +1,127 @@
+"""Shared pieces of the strategies whose passes are curves: the cross-feed width that
+leaves h_c, a step across the surface by a distance, runs of a mask, arc resampling."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ...geometry.surface import normal_curvature, unit_normal
+from ..zoning.profile import profile_width
+from ..zoning.stepover import ScallopTarget
+
+__all__ = ["cross_width", "march", "runs", "resample", "zone_mask", "pass_frame",
+           "extend_to_edge"]
+
+
+def _ray_to_box(x, d, reach: float):
+    """The point where the ray x + s d (s > 0) leaves [0, 1]^2, or None beyond ``reach``."""
+    s_hit = np.inf
+    for k in range(2):
+        if d[k] > 1e-15:
+            s_hit = min(s_hit, (1.0 - x[k]) / d[k])
+        elif d[k] < -1e-15:
+            s_hit = min(s_hit, -x[k] / d[k])
+    if not np.isfinite(s_hit) or s_hit * np.linalg.norm(d) > reach:
+        return None
+    return np.clip(x + max(s_hit, 0.0) * d, 0.0, 1.0)
+
+
+def extend_to_edge(uv, reach: float = 0.25, eps: float = 1e-9):
+    """The polyline uv (M, 2), its ends carried straight on (in the parameters, along the end
+    segments) to the edge of [0, 1]^2 when they stop short of it (at most ``reach`` in u, v):
+    an offset pass ends inside the footprint wherever the cross-feed is oblique to the
+    edge, and would leave the triangle beyond it uncut."""
+    if len(uv) < 2:
+        return uv
+    out = [uv]
+    on = lambda x: bool(np.any((x <= eps) | (x >= 1 - eps)))
+    if not on(uv[-1]):
+        hit = _ray_to_box(uv[-1], uv[-1] - uv[-2], reach)
+        if hit is not None:
+            out.append(hit[None])
+    if not on(uv[0]):
+        hit = _ray_to_box(uv[0], uv[0] - uv[1], reach)
+        if hit is not None:
+            out.insert(0, hit[None])
+    return np.concatenate(out)
+
+
+def pass_frame(surface, uv):
+    """(jet, n, t, b) along a pass polyline uv (M, 2): unit normal, travel tangent (central
+    differences in the tangent plane), cross-feed tangent b = n x t."""
+    jet = surface.jet(uv[:, 0], uv[:, 1], order=2)
+    n = unit_normal(jet, surface.normal_sign)
+    t = np.gradient(jet.p, axis=0) if len(uv) > 1 else np.tile([1.0, 0, 0], (len(uv), 1))
+    t -= np.einsum("ij,ij->i", t, n)[:, None] * n
+    t /= np.maximum(np.linalg.norm(t, axis=1, keepdims=True), 1e-300)
+    return jet, n, t, np.cross(n, t)
+
+
+def cross_width(surface, cutter, h_c, jet, t, b, lead_tilt=None):
+    """CC spacing (mm, on the surface along b) that leaves a cusp of exactly h_c.
+
+    3-axis (``lead_tilt`` None): the vertical cutter's exact swept profile in the
+    cross-feed plane (``zoning/profile.profile_width``, the model the parallel planes are
+    spaced by), capped by the cutter's width at h_c. 5-axis (lead, tilt radians): the circle
+    of the lead/tilt effective radius R_eff (``Cutter.effective_radius_lead_tilt``) against
+    the normal curvature kappa across the feed, w^2 = 4 h_c (2 - h_c / R_eff) / (1/R_eff -
+    kappa) (Djebali Eq. 2 for CC points, docs/toolpath_formulas "Scallop height"), capped
+    the same way."""
+    kappa = normal_curvature(jet, b, surface.normal_sign)
+    target = ScallopTarget(cutter, float(h_c))
+    if lead_tilt is None:
+        w = profile_width(target, t[:, 2], b[:, 2], kappa)
+    else:
+        r_eff = float(cutter.effective_radius_lead_tilt(*lead_tilt))
+        inv = 0.0 if not np.isfinite(r_eff) else 1.0 / max(r_eff, 1e-12)
+        margin = inv - kappa
+        with np.errstate(divide="ignore", invalid="ignore"):
+            w = np.where(margin > 0, np.sqrt(4 * h_c * (2 - h_c * inv) / margin), np.inf)
+    return np.minimum(w, target.width_cap)
+
+
+def march(surface, uv, direction, dist, substeps: int = 2):
+    """(u, v) reached from uv (M, 2) by walking ``dist`` (M,) mm on the surface along the
+    tangent ``direction`` (M, 3), re-projected onto the tangent plane at each substep (the
+    parameters may leave [0, 1]: the surface's extension is evaluated there)."""
+    x = uv.copy()
+    d = direction.copy()
+    for _ in range(substeps):
+        j = surface.jet(x[:, 0], x[:, 1], order=1)
+        n = unit_normal(j, surface.normal_sign)
+        d -= np.einsum("ij,ij->i", d, n)[:, None] * n
+        d /= np.maximum(np.linalg.norm(d, axis=1, keepdims=True), 1e-300)
+        g = d * (dist / substeps)[:, None]
+        E, F, G = (np.einsum("ij,ij->i", a, b) for a, b in ((j.su, j.su), (j.su, j.sv),
+                                                           (j.sv, j.sv)))
+        r1, r2 = np.einsum("ij,ij->i", j.su, g), np.einsum("ij,ij->i", j.sv, g)
+        det = E * G - F * F
+        x = x + np.column_stack([(G * r1 - F * r2) / det, (E * r2 - F * r1) / det])
+    return x
+
+
+def runs(mask):
+    """[(a, b)]: the maximal stretches mask[a:b] that are True."""
+    m = np.r_[False, np.asarray(mask, bool), False]
+    edges = np.flatnonzero(m[1:] != m[:-1])
+    return list(zip(edges[::2], edges[1::2]))
+
+
+def resample(surface, uv, ds: float):
+    """The polyline uv (M, 2) resampled every ~ds mm of its surface arc (ends kept)."""
+    if len(uv) < 2:
+        return uv
+    p = surface.jet(uv[:, 0], uv[:, 1], order=0).p
+    arc = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(p, axis=0), axis=1))]
+    k = max(int(np.ceil(arc[-1] / ds)), 1)
+    s = np.linspace(0.0, arc[-1], k + 1)
+    return np.column_stack([np.interp(s, arc, uv[:, 0]), np.interp(s, arc, uv[:, 1])])
+
+
+def zone_mask(labels, z, uv):
+    """Whether each (u, v) lies in a mesh cell of zone z (and in [0, 1]^2)."""
+    n, m = labels.shape
+    inside = np.all((uv >= 0) & (uv <= 1), axis=1)
+    i = np.clip((uv[:, 0] * n).astype(np.int64), 0, n - 1)
+    j = np.clip((uv[:, 1] * m).astype(np.int64), 0, m - 1)
+    return inside & (labels[i, j] == z)

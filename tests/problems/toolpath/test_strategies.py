@@ -1,0 +1,120 @@
+"""The strategy registry (``plan/strategies``): iso-scallop offsets against parallel planes
+and the closed form on a plane, iso-parametric passes on iso-curves, the cut simulation on
+Choi's surface, and one-line errors."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from evoplan.problems.toolpath.geometry.spec import parse_surface
+from evoplan.problems.toolpath.plan.planner import Planner
+from evoplan.problems.toolpath.plan.strategies import STRATEGIES, get_strategy
+from evoplan.problems.toolpath.simulation import design_grid, simulate
+from evoplan.problems.toolpath.tools import parse_tools
+
+BALL = [{"id": 1, "type": "ball", "diameter": 6.35}]
+H_C = 0.254
+
+
+def _plane():
+    """z = 5 over [0, 40] x [0, 30] (u along x, v along y)."""
+    x, y = np.linspace(0, 40, 2), np.linspace(0, 30, 2)
+    X, Y = np.meshgrid(x, y, indexing="ij")
+    net = np.stack([X, Y, 5.0 + 0 * X], axis=-1)
+    return parse_surface({"type": "bspline", "degree": [1, 1], "poles": net.tolist()})
+
+
+def _genes(tool=0, step=1.0):
+    return {"tool": np.array([tool]), "step": np.array([step])}
+
+
+def _pass_offsets(batch):
+    """Per pass (in cross-feed order) the y of its CC points on the part (feed along x)."""
+    ys = {}
+    for s in range(len(batch.sec_ind)):
+        a, c = batch.sec_start[s], batch.sec_count[s]
+        on = batch.on_part[a:a + c]
+        ys.setdefault(int(batch.sec_pass[s]), []).append(batch.p[a:a + c][on, 1])
+    return [np.concatenate(ys[k]) for k in sorted(ys)]
+
+
+def test_isoscallop_on_a_plane_equals_parallel_at_the_closed_form_spacing():
+    surface, tools = _plane(), parse_tools(BALL)
+    par = Planner(surface, tools, machine="3axis", spacing="scallop", h_c=H_C, feed_angle=0.0)
+    first = float(par.layouts.get(None, 0).planes[0][0])
+    iso = Planner(surface, tools, machine="3axis", spacing="scallop", h_c=H_C, feed_angle=0.0,
+                  strategy={"name": "isoscallop", "master_offset": first})
+    R = 3.175
+    w = 2 * np.sqrt(2 * R * H_C - H_C ** 2)  # the CC spacing of a ball on a plane
+    p_par = _pass_offsets(par.plan(_genes(), place=False))
+    p_iso = _pass_offsets(iso.plan(_genes(), place=False))
+    # every pass but the last ones on the far edge: parallel clamps its last plane on the
+    # zone's samples (0.125 mm inside), iso-scallop adds a border pass on the edge itself
+    assert len(p_iso) in (len(p_par), len(p_par) + 1)
+    for a, b in zip(p_par[:-1], p_iso[:len(p_par) - 1]):
+        assert np.ptp(b) < 1e-9 and abs(a.mean() - b.mean()) < 1e-6
+    centres = [b.mean() for b in p_iso]
+    assert np.allclose(np.diff(centres[:-1]), w, rtol=1e-6)
+    assert abs(centres[-1] - 30.0) < 1e-6 and 0 < centres[-1] - centres[-2] <= w + 1e-9
+
+
+def test_isoparametric_passes_are_iso_curves():
+    surface, tools = parse_surface("choi"), parse_tools(BALL)
+    pl = Planner(surface, tools, machine="3axis", spacing="scallop", h_c=H_C, feed_angle=None,
+                 strategy="isoparametric")
+    batch = pl.plan(_genes(), place=False)
+    for s in range(len(batch.sec_ind)):
+        a, c = batch.sec_start[s], batch.sec_count[s]
+        on = batch.on_part[a:a + c]
+        assert np.ptp(batch.u[a:a + c][on]) < 1e-12
+    us = np.unique(np.round(batch.u[batch.on_part], 12))
+    assert us[0] == 0.0 and us[-1] == 1.0 and len(us) > 10
+
+
+@pytest.mark.parametrize("strategy", ["isoscallop", "isoparametric"])
+def test_ball_plans_of_choi_meet_h_c_in_the_cut_simulation(strategy):
+    surface, tools = parse_surface("choi"), parse_tools(BALL)
+    pl = Planner(surface, tools, machine="3axis", spacing="scallop", h_c=H_C, feed_angle=None,
+                 strategy=strategy)
+    sim = simulate(pl.cl_path(_genes()), design_grid(surface, 0.25), allowance=0.5)
+    m = sim.metrics
+    assert m["scallop_p99_mm"] < H_C and m["scallop_max_mm"] <= 1.1 * H_C
+    assert m["uncut_fraction"] == 0.0 and m["gouge_max_mm"] < 0.01
+
+
+def test_bad_strategies_are_one_line_errors():
+    surface, tools = parse_surface("choi"), parse_tools(BALL)
+    with pytest.raises(ValueError, match=r"^strategy: unknown strategy 'spiral'"):
+        get_strategy("spiral")
+    with pytest.raises(ValueError, match=r"^strategy\.curves: a setting of isoparametric"):
+        get_strategy({"name": "isoscallop", "curves": "u"})
+    with pytest.raises(ValueError, match=r"^h_c: the isoscallop strategy"):
+        Planner(surface, tools, machine="3axis", strategy="isoscallop")
+    pl = Planner(surface, tools, machine="3axis", spacing="scallop", h_c=H_C, feed_angle=0.0,
+                 strategy={"name": "isoscallop", "master_offset": 500.0})
+    with pytest.raises(ValueError, match=r"^strategy\.master_offset: 500 mm lies outside"):
+        pl.plan(_genes(), place=False)
+    assert set(STRATEGIES) >= {"parallel", "isoscallop", "isoparametric"}
+
+
+def test_lengths_counted_both_ways():
+    from evoplan.problems.toolpath.criteria.analytic import analytic_criteria
+    from evoplan.problems.toolpath.plan.zones import ZoningSpec
+
+    surface, tools = parse_surface("choi"), parse_tools(BALL)
+    pl = Planner(surface, tools, machine="3axis", spacing="scallop", h_c=H_C, feed_angle=None,
+                 zoning=ZoningSpec("kmeans", mesh=(30, 30), merge=None))
+    genes = {**_genes(), "zones": np.array([3])}
+    batch = pl.plan(genes, place=False)
+    crit = analytic_criteria(batch, surface, tools, genes, allowance=0.5, feed_rate=1000.0,
+                             delta_l=40.0, machine="3axis")
+    # the papers' count from the points: moves inside a section between two CC points on the part
+    on = (batch.pt_sec[1:] == batch.pt_sec[:-1]) & batch.on_part[1:] & batch.on_part[:-1]
+    own = float(np.linalg.norm(np.diff(batch.p, axis=0), axis=1)[on].sum())
+    assert crit["length_on_part_mm"][0] == pytest.approx(own, rel=1e-12)
+    assert crit["length_on_part_mm"][0] < crit["cutting_length"][0]  # the edge runs
+    zones = crit["zones"][0]
+    assert zones > 1
+    assert crit["length_papers_mm"][0] == pytest.approx(own + (zones - 1) * 40.0, rel=1e-12)
+    assert crit["eq4_total"][0] == pytest.approx(crit["cutting_length"][0] + (zones - 1) * 40.0)
