@@ -93,7 +93,8 @@ def test_every_criterion_is_finite_where_it_may_be_weighted(fountas):
             "cc_count", "n_passes", "n_sections", "zones", "chord_error_mean",
             "chord_error_max", "r_eff", "scallop_max", "scallop_mean", "gouge_max",
             "undercut_max", "machining_error", "machining_error_mean", "cutting_length",
-            "link_length", "interzone_length", "path_length", "machining_time", "eq4_total")
+            "link_length", "interzone_length", "path_length", "machining_time", "eq4_total",
+            "length_on_part_mm", "length_papers_mm")
         for name, values in crit.items():
             assert values.shape == (30,), name
             assert np.all(np.isfinite(values)) or not CRITERIA[name].weightable, name
