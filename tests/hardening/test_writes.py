@@ -14,12 +14,10 @@ import pytest
 
 from evoplan.folder_writer import write_folder
 
-from .corpus import STUDY, ZONE
+from .corpus import MACHINE, STUDY, ZONE
 
 ROOT = Path(__file__).resolve().parents[2]
 ENV = {**os.environ, "PYTHONPATH": str(ROOT), "MPLBACKEND": "Agg"}
-MACHINE = (ROOT / "tests/problems/roughing/test_machine_command.py").read_text().split('SMALL = """')[1].split('"""')[0]
-MACHINE = MACHINE.format(top="", method="zlevel", depth=3.0, dialect="heidenhain", limits="[-90, 90]")
 SIM = ["--set", "tool=8", "--set", "stepover=30.0", "--set", "lead=1.0", "--set", "tilt=0.5", "--set", "step=8.0",
        "--grid", "0.5"]
 
