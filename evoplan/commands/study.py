@@ -5,12 +5,15 @@ from __future__ import annotations
 
 import argparse
 import json
+import sys
 from pathlib import Path
 
 from ..errors import EvoplanError
 from ..overrides import add_argument
 from ..parallel import POOLS
 from . import COMMANDS
+
+FAILED_RUNS = 3  # exit code of a study that finished with failed runs (documented in docs/robustness.md)
 
 
 def add_parser(sub) -> argparse.ArgumentParser:
@@ -46,4 +49,8 @@ def main(args: argparse.Namespace) -> int:
     summary = run_study(study, args.study, out, backend, args.workers, args.scheduler,
                         progress=False if args.quiet else None)
     print(json.dumps(summary))
+    if summary["failed"]:  # the study is written, but not all of it ran: say so in the exit code
+        print(f"evoplan: {summary['failed']} of {summary['ran']} runs failed (runs.csv, column error); "
+              f"their variants are left out of the tests and figures", file=sys.stderr)
+        return FAILED_RUNS
     return 0

@@ -22,6 +22,30 @@ def default_reference(study: StudyConfig) -> str:
     return str(first.get("label", first["name"]))
 
 
+VARIANT = ["algorithm", "factor", "level"]
+
+
+def failed_variants(runs: pd.DataFrame) -> pd.DataFrame:
+    """The variants (algorithm, factor, level) with a failed run: ``runs`` and ``failed`` counts.
+
+    Their other runs are not comparable (a missing extra, a black box that kills its worker):
+    the tests, ranks and figures leave the whole variant out, and the report says so."""
+    g = runs.assign(bad=runs["status"] != "ok").groupby(VARIANT, sort=False)["bad"]
+    out = pd.DataFrame({"runs": g.size(), "failed": g.sum()}).reset_index()
+    return out[out["failed"] > 0]
+
+
+def _without(runs: pd.DataFrame, variants: pd.DataFrame) -> pd.DataFrame:
+    if not len(variants):
+        return runs
+    keys = set(map(tuple, variants[VARIANT].itertuples(index=False)))
+    return runs[[k not in keys for k in map(tuple, runs[VARIANT].itertuples(index=False))]]
+
+
+def _variant(r) -> str:
+    return f"{r.algorithm} {r.factor}={r.level}" if r.factor else str(r.algorithm)
+
+
 def _invocation(e: dict[str, Any]) -> str:
     return (f"{e['ran']} on {e['backend']} ({e['workers']} workers) in {e['wall_seconds']} s"
             f" (+{e.get('startup_seconds', 0)} s start-up), {e['reused']} reused, {e.get('finished', '')}")
@@ -38,12 +62,15 @@ def analyze(study: StudyConfig, folder: StudyFolder, records: list[dict[str, Any
     runs["factor"] = runs["factor"].fillna("")
     runs["level"] = runs["level"].fillna("").astype(str)
     folder.write_table("runs.csv", runs)
-    summary = summarize(runs)
+    summary = summarize(runs)  # every variant, failed runs counted
     folder.write_table("summary.csv", summary)
     st = study.statistics
-    tests = compare(runs, default_reference(study), reference_levels, st.test, st.alpha)
-    folder.write_table("tests.csv", tests)
     reference = default_reference(study)
+    left_out = failed_variants(runs)
+    left_out = left_out[left_out["algorithm"] != reference]  # the reference stays: the others are tested against it
+    runs_all, runs = runs, _without(runs, left_out)
+    tests = compare(runs, reference, reference_levels, st.test, st.alpha)
+    folder.write_table("tests.csv", tests)
     ok_runs = runs[runs["status"] == "ok"]
     ranks, pairs, diagrams = friedman(runs, reference, reference_levels)
     folder.write_table("friedman.csv", ranks)
@@ -80,15 +107,18 @@ def analyze(study: StudyConfig, folder: StudyFolder, records: list[dict[str, Any
             folder.write_bytes(name, draw())
             names.append(name)
     meta = {
-        "grid": f"{runs['problem'].nunique()} problems, {runs.groupby(BLOCK).ngroups} problem x dimension, "
+        "grid": f"{runs_all['problem'].nunique()} problems, {runs_all.groupby(BLOCK).ngroups} problem x dimension, "
                 f"{summary.groupby(['algorithm', 'factor', 'level']).ngroups} variants, {study.seeds} seeds "
-                f"= {len(runs)} runs",
+                f"= {len(runs_all)} runs",
         "budget": ", ".join(f"{k}={v}" for k, v in study.budget.model_dump().items() if v not in (None, False)),
         "reference": reference,
         "runs made": "; ".join(_invocation(e) for e in executions if e["ran"]) or "none",
-        "failed runs": int((runs["status"] != "ok").sum()),
+        "failed runs": int((runs_all["status"] != "ok").sum()),
     }
-    failures = runs[runs["status"] != "ok"]
+    if len(left_out):
+        meta["left out of the tests, ranks and figures"] = "; ".join(
+            f"{_variant(r)} ({r.failed} of {r.runs} runs failed)" for r in left_out.itertuples())
+    failures = runs_all[runs_all["status"] != "ok"]
     extra = {"budget": study.cache.budget, "rope": st.rope, "friedman": ranks, "bayes": bayes}
     text = render(study.name or "study", meta, summary, tests, f_ref, known, names, failures, st.test, st.alpha,
                   len(targets), extra)

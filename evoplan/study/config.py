@@ -34,7 +34,8 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_valida
 
 from ..cache import CacheConfig
 from ..config import REGISTRY, SafeName, TerminationConfig, VariableOverride, read_yaml
-from ..errors import ConfigError
+from ..errors import ConfigError, EvoplanError
+from ..extras import require
 from ..safe_yaml import key_text, short
 from ..problem_factory import build_space, make_problem
 from .bbob import resolve_problem_name
@@ -210,6 +211,13 @@ def parse_study(data: dict[str, Any], source: str = "<study>") -> StudyConfig:
     except ValidationError as e:
         raise ConfigError(f"{source}: {_first_error(e)}") from None
     labels = [algorithm_settings(a, f"algorithms[{i}]", source)[0] for i, a in enumerate(study.algorithms)]
+    for i, entry in enumerate(study.algorithms):  # a missing extra stops the study before any cell
+        extra = getattr(REGISTRY[entry["name"]][0], "extra", None)
+        if extra is not None:
+            try:
+                require(*extra)
+            except EvoplanError as e:
+                raise ConfigError(f"{source}: algorithms[{i}] ({labels[i]}): {e}") from None
     _unique(labels, "algorithms", "label", source)
     _unique([p.label or p.name for p in study.problems], "problems", "label", source)
     if study.factors is not None and study.factors.algorithm not in labels:
