@@ -7,9 +7,12 @@ and ``merge`` (the post-process of ``zoning/merge.py``); see ``runs/choi_zoning.
 config model is built from the registry, so this command holds no method logic. The plan
 is the one toolpath engine's (3-axis, drop-cutter placement, passes spaced for h_c, each
 zone along its optimized direction), so its lengths are those of the sections it cuts.
-Writes ``summary.json`` (method, zones, per-zone direction, passes and length, total
-length of Djebali Eq. 4, penalty, merge counts, seconds), ``zones.csv`` (cell -> zone,
-with the cell's features) and ``zone_map.png`` (the zones and the sections cut).
+``strategy`` (or ``--strategy NAME``) picks the pass layout of ``plan/strategies``
+(default parallel). Writes ``summary.json`` (method, strategy, zones, per-zone direction,
+passes and length, total length of Djebali Eq. 4 with the edge runs, the lengths as the
+papers count them: ``length_on_part_mm`` and ``length_papers_mm`` = on part + penalty,
+penalty, merge counts, seconds), ``zones.csv`` (cell -> zone, with the cell's features),
+``zone_map.png`` (the zones and the sections cut) and ``toolpath.apt`` (the CL path).
 Nothing is written unless the whole plan succeeds.
 """
 
@@ -53,6 +56,8 @@ class ZoneBase(_Strict):
     sample_spacing: float = Field(0.25, gt=0)
     direction_scan: int = Field(12, ge=1)
     step: float = Field(1.0, gt=0, description="largest distance between CC points (mm)")
+    strategy: Any = Field("parallel", description="the pass layout: a registered strategy "
+                          "name (parallel, isoscallop, isoparametric) or {name, ...settings}")
 
     @field_validator("method")
     @classmethod
@@ -78,15 +83,20 @@ def add_parser(sub) -> argparse.ArgumentParser:
     p.add_argument("--out", help="results folder (default: results/<name>-<time>)")
     p.add_argument("--method", metavar="NAME",
                    help=f"override the method (registered: {', '.join(REGISTRY)})")
+    p.add_argument("--strategy", metavar="NAME",
+                   help="override the pass layout (parallel, isoscallop, isoparametric)")
     return p
 
 
-def load(path: str, method: str | None = None) -> ZoneBase:
-    """The validated zoning file (``method``: the --method override); ConfigError."""
+def load(path: str, method: str | None = None, strategy: str | None = None) -> ZoneBase:
+    """The validated zoning file (``method`` / ``strategy``: the --method / --strategy
+    overrides); ConfigError."""
     data = read_yaml(path)
     data.setdefault("name", Path(path).stem)
     if method is not None:
         data["method"] = method
+    if strategy is not None:
+        data["strategy"] = strategy
     try:
         cfg = zone_config_model().model_validate(data)
     except ValidationError as e:
@@ -120,7 +130,7 @@ def build_plan(cfg: ZoneBase, base_dir: Path):
     spec = ZoningSpec(cfg.method, settings, tuple(cfg.mesh), cfg.merge, cfg.delta_l, cfg.seed,
                       cfg.stepover_model, cfg.direction_scan, cfg.sample_spacing)
     planner = Planner(surface, tools, machine="3axis", zoning=spec, spacing="scallop",
-                      h_c=cfg.h_c, feed_angle=None)
+                      h_c=cfg.h_c, feed_angle=None, strategy=cfg.strategy)
     t0 = time.perf_counter()
     batch = planner.plan(genes, place=False)
     return surface, planner, genes, batch, time.perf_counter() - t0
@@ -146,6 +156,8 @@ def summary(cfg: ZoneBase, planner, genes, batch, seconds: float) -> dict[str, A
                       "length_mm": round(float(batch.seg_len[zone_of_seg == z].sum()), 3)})
     cutting = float(batch.seg_len.sum())
     penalty = (layout.count - 1) * cfg.delta_l
+    chords = np.ones(len(batch.seg_len), bool) if batch.seg_cc is None else batch.seg_cc
+    on_part = float(batch.seg_len[chords].sum())
     return {
         "name": cfg.name, "method": layouts.method.name, "mesh": list(cfg.mesh),
         "cutter": {"R": cfg.cutter.R, "r": cfg.cutter.r}, "h_c": cfg.h_c,
@@ -154,9 +166,31 @@ def summary(cfg: ZoneBase, planner, genes, batch, seconds: float) -> dict[str, A
         "cutting_length_mm": round(cutting, 3),
         "penalty_mm": round(penalty, 3), "delta_l_mm": cfg.delta_l,
         "total_length_mm": round(cutting + penalty, 3),
+        "strategy": planner.strategy.name,
+        "length_on_part_mm": round(on_part, 3),
+        "length_papers_mm": round(on_part + penalty, 3),
         "cc_points": int(batch.on_part.sum()),
         "info": layout.info, "seconds": {"total": round(seconds, 4)},
     }
+
+
+def toolpath_apt(planner, genes, facts) -> bytes:
+    """The plan as an APT CL file (the CL path the machine runs: drop-cutter tips, each
+    section one feed motion), so an outside simulator can measure it."""
+    from ..problems.toolpath.export.apt_write import apt_toolpath
+    from ..problems.toolpath.export.toolpath import Tool, Toolpath
+
+    path = planner.cl_path(genes)
+    tool = planner.tools.tools[0]
+    starts = [i for i in range(len(path)) if i == 0 or path.section[i] != path.section[i - 1]]
+    names = {int(path.section[i]): f"ZONE {path.zone[i]} PASS {path.pass_index[i]}"
+             for i in starts}
+    title = (f"{facts['name']}: {facts['method']} {facts['n_zones']} zones, "
+             f"{facts['strategy']}, h_c {facts['h_c']} mm")
+    tp = Toolpath.from_sections("finish", Tool(1, tool.diameter, tool.corner_radius),
+                                path.tip, path.axis, path.section, feed=path.feed_rate,
+                                comments=[title[:66]], section_names=names)
+    return apt_toolpath(tp, part="EVOPLAN ZONE").encode()
 
 
 def zones_csv(features, labels) -> bytes:
@@ -178,7 +212,7 @@ def zones_csv(features, labels) -> bytes:
 def main(args: argparse.Namespace) -> int:
     from ..problems.toolpath.artifacts import zone_map_png
 
-    cfg = load(args.config, args.method)
+    cfg = load(args.config, args.method, args.strategy)
     out = Path(args.out or Path("results") / f"{cfg.name}-{time.strftime('%Y%m%d-%H%M%S')}")
     check_out(out)
     try:
@@ -190,7 +224,8 @@ def main(args: argparse.Namespace) -> int:
                  "zone_map.png": zone_map_png(surface, batch, labels,
                                               title=f"{cfg.name}: {facts['method']}, "
                                                     f"{facts['n_zones']} zones, total "
-                                                    f"{facts['total_length_mm']:.0f} mm")}
+                                                    f"{facts['total_length_mm']:.0f} mm"),
+                 "toolpath.apt": toolpath_apt(planner, genes, facts)}
     except ValueError as e:
         raise ConfigError(f"{args.config}: {e}") from None
     write_folder(out, files)  # all files or none (a full disk: one line)
@@ -200,5 +235,8 @@ def main(args: argparse.Namespace) -> int:
                       "cutting_length_mm": round(facts["cutting_length_mm"], 1),
                       "penalty_mm": facts["penalty_mm"],
                       "total_length_mm": round(facts["total_length_mm"], 1),
+                      "strategy": facts["strategy"],
+                      "length_on_part_mm": round(facts["length_on_part_mm"], 1),
+                      "length_papers_mm": round(facts["length_papers_mm"], 1),
                       "seconds": round(seconds, 3)}))
     return 0

@@ -118,3 +118,37 @@ def test_lengths_counted_both_ways():
     assert zones > 1
     assert crit["length_papers_mm"][0] == pytest.approx(own + (zones - 1) * 40.0, rel=1e-12)
     assert crit["eq4_total"][0] == pytest.approx(crit["cutting_length"][0] + (zones - 1) * 40.0)
+
+
+def test_zone_command_writes_the_apt_and_both_lengths_per_strategy(tmp_path, capsys):
+    import json
+
+    from evoplan.cli import main as cli_main
+    from evoplan.problems.toolpath.export.apt_read import read_apt
+
+    cfg = tmp_path / "z.yaml"
+    cfg.write_text("surface: choi\ncutter: {R: 3.175, r: 3.175}\nmesh: [12, 12]\n"
+                   "method: kmeans\nkmeans: {K: 2}\nmerge: {min_zone_area: 0, by_length: false}\n"
+                   "sample_spacing: 1.0\ndirection_scan: 2\nstep: 2.0\n")
+    lengths = {}
+    for name in ("parallel", "isoscallop", "isoparametric"):
+        out = tmp_path / name
+        assert cli_main(["zone", str(cfg), "--strategy", name, "--out", str(out)]) == 0
+        s = json.loads((out / "summary.json").read_text())
+        assert s["strategy"] == name and s["n_zones"] >= 2
+        assert s["length_on_part_mm"] < s["cutting_length_mm"]
+        assert s["length_papers_mm"] == pytest.approx(s["length_on_part_mm"] + s["penalty_mm"])
+        apt = read_apt(out / "toolpath.apt")
+        assert len(apt.tip) > 100
+        lengths[name] = s["length_on_part_mm"]
+    assert len(set(lengths.values())) == 3  # three different layouts
+    capsys.readouterr()
+    for bad, msg in (("spiral", "strategy: unknown strategy 'spiral'"),):
+        assert cli_main(["zone", str(cfg), "--strategy", bad, "--out", str(tmp_path / "b")]) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and msg in err[0] and not (tmp_path / "b").exists()
+    cfg.write_text(cfg.read_text() + "strategy: {name: isoscallop, curves: u}\n")
+    assert cli_main(["zone", str(cfg), "--out", str(tmp_path / "c")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "strategy.curves: a setting of isoparametric" in err[0]
+    assert not (tmp_path / "c").exists()
