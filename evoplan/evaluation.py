@@ -27,6 +27,17 @@ class Evaluation:
     f: np.ndarray
     failed: np.ndarray
     errors: list[str] = field(default_factory=list)
+    F: np.ndarray | None = None  # a multi-objective evaluator's vectors (n, k), inf where failed
+
+
+def stack_vectors(parts: list["Evaluation"]) -> np.ndarray | None:
+    """The vectors of consecutive evaluations joined in row order (NaN rows, "not evaluated",
+    for a part without them, e.g. a chunk lost to the backend); ``None`` when no part has any."""
+    given = [r.F for r in parts if r.F is not None]
+    if not given:
+        return None
+    k = given[0].shape[1]
+    return np.concatenate([r.F if r.F is not None else np.full((len(r.f), k), np.nan) for r in parts])
 
 
 class ObjectiveShapeError(EvoplanError):

@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .evaluation import Evaluator
+from .evaluation import Evaluation, Evaluator
 
 __all__ = ["Ledger", "MultiEvaluator", "scalarization_weights", "nondominated", "hypervolume",
            "reference_point", "connect"]
@@ -95,9 +95,39 @@ class MultiEvaluator(Evaluator):
         F = self.vectors(X)
         bad = ~np.isfinite(F).all(axis=1)
         F[bad] = np.inf
-        self.ledger.store(X, F)
+        self._batch.store(X, F)
         with np.errstate(invalid="ignore"):
             return np.where(bad, np.nan, np.nan_to_num(F, posinf=0.0) @ self.weights)
+
+    def __call__(self, X: np.ndarray) -> Evaluation:
+        """The scalar evaluation, with the batch's vectors in ``F`` (``inf`` rows for non-finite
+        ones, NaN rows for rows that raised); the vectors are stored in :attr:`ledger` too (where this evaluator runs: a
+        worker's copy is refilled in the main process by :class:`VectorsToLedger`)."""
+        self._batch = Ledger()
+        try:
+            result = super().__call__(X)
+        finally:
+            batch, self._batch = self._batch, None
+        for key, row in batch.rows.items():
+            self.ledger.rows[key] = row
+        missing = np.full(self.problem.n_obj, np.nan)  # a row that raised: not in the ledger
+        result.F = np.array([batch.rows.get(k, missing) for k in Ledger.keys(X)]).reshape(len(X), -1)
+        return result
+
+
+class VectorsToLedger:
+    """A (parallel) evaluator of a :class:`MultiEvaluator`: the vectors its workers computed
+    (``Evaluation.F``) go into the main process's ledger, in row order, as a serial run's do."""
+
+    def __init__(self, evaluator, multi: MultiEvaluator) -> None:
+        self.evaluator, self.multi = evaluator, multi
+
+    def __call__(self, X: np.ndarray) -> Evaluation:
+        result = self.evaluator(X)
+        if result.F is not None:
+            kept = ~np.isnan(result.F).any(axis=1)  # NaN: the row raised (a serial run keeps none)
+            self.multi.ledger.store(X[kept], result.F[kept])
+        return result
 
 
 def connect(evaluator, algorithm, decode) -> None:
@@ -149,7 +179,8 @@ def evaluator_for(problem, config, source: str) -> Evaluator:
     """The evaluator of a run: one objective, or several with a multi-objective algorithm.
 
     A problem with several objectives needs an algorithm that reads vectors (``nsga2``,
-    ``nsga3``, ``sms_emoa``), evaluated serially (the vectors are collected in this process);
+    ``nsga3``, ``sms_emoa``), on any evaluation backend (workers return the vectors with their
+    rows, :class:`VectorsToLedger` puts them in this process's ledger);
     anything else is a one-line :class:`~evoplan.errors.ConfigError`. An algorithm from an
     extra that is not installed is a one-line error here too, before any file is written.
     """
@@ -170,8 +201,6 @@ def evaluator_for(problem, config, source: str) -> Evaluator:
         multis = [k for k, (c, _) in REGISTRY.items() if getattr(c, "multi_objective", False)]
         raise ConfigError(f"{source}: algorithm.name: {config.algorithm.name} optimizes one objective and the "
                           f"problem has {problem.n_obj}: use {', '.join(multis)} (or weights, one objective)")
-    if config.evaluation.backend != "serial":
-        raise ConfigError(f"{source}: evaluation.backend: a multi-objective run evaluates serially")
     return MultiEvaluator(problem, config.problem.constraint_penalty)
 
 

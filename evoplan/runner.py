@@ -29,7 +29,7 @@ from .config import REGISTRY, RunConfig, load_config, read_yaml
 from .engine import HISTORY_COLUMNS, Checkpointer, RunState, Termination, run, write_atomic
 from .errors import ConfigError, EvoplanError
 from .evaluation import Evaluator, ObjectiveShapeError
-from .multiobjective import add_hypervolume, connect, evaluator_for, write_front
+from .multiobjective import MultiEvaluator, VectorsToLedger, add_hypervolume, connect, evaluator_for, write_front
 from .parallel import ParallelEvaluator, open_pool
 from .limits import check_population
 from .results_folder import FolderClaim, claim
@@ -173,6 +173,8 @@ def execute(prepared: Prepared, out: Path, resume: bool = False, progress: bool 
             folder = claim(out, new=False)
             connect(prepared.evaluator, state.algorithm, prepared.search.decode)
         evaluator = ParallelEvaluator(prepared.evaluator, pool, e.chunks) if pool else prepared.evaluator
+        if pool and isinstance(prepared.evaluator, MultiEvaluator):
+            evaluator = VectorsToLedger(evaluator, prepared.evaluator)  # the workers' vectors, kept here
         with _progress_bar(prepared.termination, state, progress) as update:
             run(state, prepared.search, evaluator, prepared.termination, checkpointer, update)
         write_results(prepared, state, out)

@@ -103,3 +103,18 @@ def test_a_resumed_multi_objective_run_continues_exactly():
     assert resumed.best_f == whole.best_f and resumed.evaluations == whole.evaluations
     np.testing.assert_array_equal(resumed.algorithm.front_F, whole.algorithm.front_F)
     assert resumed.algorithm.hypervolumes == whole.algorithm.hypervolumes
+
+
+@pytest.mark.parametrize("backend", ["processes", "dask"])
+def test_a_multi_objective_run_on_workers_gives_the_serial_front(tmp_path, backend):
+    run = {**RUN, "termination": {"generations": 3}}
+    code, serial = _run(tmp_path, run, "serial")
+    assert code == 0
+    code, parallel = _run(tmp_path, {**run, "evaluation": {"backend": backend, "workers": 2}}, backend)
+    assert code == 0
+    a, b = pd.read_csv(serial / "pareto.csv"), pd.read_csv(parallel / "pareto.csv")
+    assert len(a) >= 2
+    pd.testing.assert_frame_equal(a, b)
+    drop = ["seconds"]
+    pd.testing.assert_frame_equal(pd.read_csv(serial / "history.csv").drop(columns=drop),
+                                  pd.read_csv(parallel / "history.csv").drop(columns=drop))
