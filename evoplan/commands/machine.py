@@ -21,7 +21,7 @@ from typing import Any, Literal
 from pydantic import Field, ValidationError
 
 from ..config import _Strict, format_validation_error, read_yaml
-from ..errors import ConfigError
+from ..errors import ConfigError, EvoplanError
 from ..folder_writer import check_out, write_folder
 from ..limits import available_bytes
 from . import COMMANDS
@@ -88,6 +88,11 @@ class KinematicsCfg(_Strict):
     rotary: RotaryCfg = Field(default_factory=lambda: RotaryCfg(name="C", about="z", limits=[-360.0, 360.0]))
     max_step: float = Field(10.0, gt=0)        # degrees per NC block (larger turns are split)
     max_deviation: float = Field(5.0, gt=0)   # degrees off the great circle before a reposition
+    clearance_height: float = Field(20.0, gt=0)   # clearance plane above the stock top, mm
+    clearance_plane: float | None = None       # or the plane's absolute Z (at or above the stock top)
+    rotary_threshold: float = Field(20.0, gt=0)   # larger rotary turns only at the clearance plane (deg)
+    pole_angle: float = Field(0.5, ge=0, lt=90)   # |tilt| below which the table holds (deg; 0: off)
+    rapid_rotary: float = Field(5400.0, gt=0)     # rotary rapid rate, deg/min
 
 
 class PostCfg(_Strict):
@@ -115,6 +120,9 @@ def add_parser(sub) -> argparse.ArgumentParser:
     p.add_argument("config", help="YAML machining file (e.g. runs/abbas_gentle.yaml)")
     p.add_argument("--out", help="results folder (default: results/<name>-<time>)")
     p.add_argument("--from-run", dest="from_run", help="a finished toolpath run: finish with its best plan")
+    p.add_argument("--check", action="store_true",
+                   help="read every 5-axis program back and verify the safety rules (clearance plane "
+                        "for rotary turns and at the end, no table turn near the pole); exit 1 if one fails")
     return p
 
 
@@ -164,6 +172,12 @@ def main(args: argparse.Namespace) -> int:
                                           max_bytes=available_bytes())
     except ValueError as e:
         raise ConfigError(f"{args.config}: {e}") from None
+    if args.check:
+        failed = {op: s["safety"]["violations"] for op, s in summary.items()
+                  if isinstance(s, dict) and s.get("safety") and s["safety"]["violations"]}
+        if failed:
+            op, v = next(iter(failed.items()))
+            raise EvoplanError(f"{args.config}: --check: {op}.nc breaks {len(v)} safety rule(s), first: {v[0]}")
     write_folder(out, files)  # all files or none (a full disk: one line)
     print(json.dumps({"out": str(out), **{op: {k: summary[op][k] for k in ("time_min", "nc_bytes")}
                                           for op in ("roughing", "semifinish", "finish")}}))

@@ -21,6 +21,16 @@ must go round the other way) or when that deviation exceeds ``max_deviation`` (d
 large turn at a large tilt): the post-processor then retracts, turns with the tool clear and
 re-approaches. Other moves whose angles change by more than ``max_step`` degrees are split
 by the post into equal steps (the same motion, written out).
+
+Safety settings (used by the posts and checked by ``export.safety.check_program``):
+``rotary_threshold`` (deg): a move turning a rotary by more than this happens only at the
+clearance plane (the post retracts along the tool axis, rises to the plane, turns there and
+comes down over the next point); ``pole_angle`` (deg): while |tilt| is below it the rotary
+table holds its value and the tilt is the signed angle of the axis in the held tilt plane
+(the axis then deviates from the wanted one by at most the azimuth error's projection, below
+``pole_angle``; 0 disables the hold and keeps the exact axis with the least-travel branch);
+``rapid_linear`` (mm/min) and ``rapid_rotary`` (deg/min) are the machine's rapid rates
+(machining time).
 """
 
 from __future__ import annotations
@@ -53,6 +63,10 @@ class Kinematics:
     rotary: Rotary       # about z
     max_step: float = 10.0
     max_deviation: float = 5.0
+    rotary_threshold: float = 20.0
+    pole_angle: float = 0.5
+    rapid_linear: float = 10000.0
+    rapid_rotary: float = 5400.0
 
     def __post_init__(self):
         if self.layout not in ("table_table", "head_table"):
@@ -62,6 +76,11 @@ class Kinematics:
         for ax in (self.tilt, self.rotary):
             if not ax.limits[0] < ax.limits[1]:
                 raise ValueError(f"limits of {ax.name}: lower must be below upper, got {list(ax.limits)}")
+        for key in ("max_step", "max_deviation", "rotary_threshold", "rapid_linear", "rapid_rotary"):
+            if not getattr(self, key) > 0:
+                raise ValueError(f"{key}: must be > 0, got {getattr(self, key)!r}")
+        if not 0 <= self.pole_angle < 90:
+            raise ValueError(f"pole_angle: must be in [0, 90), got {self.pole_angle!r}")
 
     @property
     def _sign(self) -> float:
@@ -131,10 +150,24 @@ class Kinematics:
                                  f"{self.tilt.name} in [{lo:g}, {hi:g}] and {self.rotary.name} in "
                                  f"[{self.rotary.limits[0]:g}, {self.rotary.limits[1]:g}] degrees")
             step, prev_a, prev_c, forced = best
+            if n and abs(prev_a) < self.pole_angle and best[2] != out[n - 1, 1]:
+                prev_c, held = out[n - 1, 1], self._held_tilt(t, out[n - 1, 1])
+                if lo - 1e-9 <= held <= hi + 1e-9:
+                    prev_a, forced = held, False
+                else:
+                    prev_c = best[2]
             out[n] = prev_a, prev_c
             unwind[n] = n > 0 and forced
         unwind[1:] |= self.deviation(axes[:-1], axes[1:], out[:-1], out[1:]) > self.max_deviation
         return out, unwind
+
+    def _held_tilt(self, t, c_deg: float) -> float:
+        """The tilt (deg) whose axis at rotary ``c_deg`` is closest to t: t turned back by
+        Rz(c) and its signed angle from z in the tilt plane."""
+        c = math.radians(c_deg)
+        x, y = t[0] * math.cos(c) - t[1] * math.sin(c), t[0] * math.sin(c) + t[1] * math.cos(c)
+        along = -y if self.tilt.about == "x" else x
+        return self._sign * math.degrees(math.atan2(along, t[2]))
 
     def deviation(self, t0, t1, ang0, ang1) -> np.ndarray:
         """Angle (deg) at the midpoint between the axis the linearly interpolated rotaries give

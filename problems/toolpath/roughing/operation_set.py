@@ -15,6 +15,7 @@ from ..export.apt_write import apt_toolpath
 from ..export.exchange import surface_dxf, surface_stl, toolpaths_dxf
 from ..export.kinematics import Kinematics, ReachError, Rotary
 from ..export.posts import POSTS, Machine, PostError
+from ..export.safety import check_program
 from ..export.toolpath import Tool
 from ..geometry.spec import parse_surface
 from .budget import check_sizes
@@ -32,9 +33,22 @@ def _kinematics(k: dict) -> Kinematics:
     try:
         return Kinematics(k["layout"], Rotary(k["tilt"]["name"], k["tilt"]["about"], tuple(k["tilt"]["limits"])),
                           Rotary(k["rotary"]["name"], k["rotary"]["about"], tuple(k["rotary"]["limits"])),
-                          float(k["max_step"]), float(k["max_deviation"]))
+                          float(k["max_step"]), float(k["max_deviation"]),
+                          float(k.get("rotary_threshold", 20.0)), float(k.get("pole_angle", 0.5)),
+                          rapid_rotary=float(k.get("rapid_rotary", 5400.0)))
     except ValueError as e:
         raise ValueError(f"post.kinematics: {e}") from None
+
+
+def _clearance_plane(k: dict, z_top: float) -> float:
+    """The clearance plane's Z: ``clearance_plane`` (absolute, not below the stock top) or
+    ``clearance_height`` above the stock top."""
+    plane = k.get("clearance_plane")
+    if plane is None:
+        return z_top + float(k.get("clearance_height", 20.0))
+    if plane < z_top:
+        raise ValueError(f"post.kinematics.clearance_plane: {plane:g} is below the stock top z = {z_top:.3f}")
+    return float(plane)
 
 
 def _finish_problem(surface, params: dict):
@@ -104,9 +118,10 @@ def build_operations(cfg: dict, base_dir=None, plan=None, max_bytes: float | Non
     post_cls = POSTS[post_cfg["dialect"]]
     _check_axes(post_cls, cfg, plan)
     kin = _kinematics(post_cfg["kinematics"]) if post_cls.five_axis else None
-    post = post_cls(Machine(kin, post_cfg["work_offset"], post_cfg["program_number"]))
     st, al, ro = cfg["stock"], cfg["allowances"], cfg["roughing"]
     stock = block_stock(surface, st["cell"], st["top"], st["top_offset"])
+    safe_z = _clearance_plane(post_cfg["kinematics"], stock.z_top)
+    post = post_cls(Machine(kin, post_cfg["work_offset"], post_cfg["program_number"], safe_z=safe_z))
     rough_tool = _tool(ro["tool"])
     rough, stats, (floor, layers) = roughing(
         stock, ro["method"], rough_tool, d_cut=ro["max_depth"], stepover=ro["stepover"] * rough_tool.diameter,
@@ -142,12 +157,16 @@ def build_operations(cfg: dict, base_dir=None, plan=None, max_bytes: float | Non
             raise ValueError(f"post.kinematics: {name}: {e}") from None
         except PostError as e:
             raise ValueError(f"post.dialect: {e}") from None
+        safety = None
+        if post.five_axis:
+            safety = {**check_program(post, nc.decode(), safe_z).__dict__, "clearance_plane": safe_z,
+                      "axis_error_deg": post.axis_error}
         apt = apt_toolpath(tp, part=f"{cfg['name']} {name}").encode()
         files[f"{name}.nc"], files[f"{name}.apt"] = nc, apt
         summary[name] = {"tool": {"number": tp.tool.number, "label": tp.tool.label()}, "points": len(tp.tip),
                          "lengths_mm": tp.lengths(), "time_min": tp.time_minutes(post_cfg["rapid_rate"]),
                          "nc_bytes": len(nc), "nc_lines": nc.count(b"\n"), "apt_bytes": len(apt),
-                         "multi_axis": tp.multi_axis}
+                         "multi_axis": tp.multi_axis, "safety": safety}
     summary["roughing"].update(stats)
     summary["semifinish"]["folded_offset_points"] = semi_folded
     summary["finish"].update(finish_info)

@@ -10,8 +10,9 @@ from evoplan.problems.toolpath.export.toolpath import Tool, Toolpath
 LAYOUTS = [("table_table", "x"), ("table_table", "y"), ("head_table", "x"), ("head_table", "y")]
 
 
-def kin(layout="table_table", about="x", tilt=(-110, 110), rotary=(-360, 360), max_step=10.0):
-    return Kinematics(layout, Rotary("A" if about == "x" else "B", about, tilt), Rotary("C", "z", rotary), max_step)
+def kin(layout="table_table", about="x", tilt=(-110, 110), rotary=(-360, 360), max_step=10.0, **kw):
+    return Kinematics(layout, Rotary("A" if about == "x" else "B", about, tilt), Rotary("C", "z", rotary), max_step,
+                      **kw)
 
 
 def cone_path(m=120, tilt_deg=25.0, turns=0.5):
@@ -62,7 +63,7 @@ def test_limits_are_kept_and_unwinds_written():
 
 
 def test_large_turns_split_at_small_tilt_and_reposition_at_large_tilt():
-    k = kin(max_step=5.0)
+    k = kin(max_step=5.0, rotary_threshold=90.0)   # turns up to 90 degrees allowed while cutting
     for tilt, repositions in ((2.0, 0), (30.0, 1)):
         t, phi = np.radians(tilt), np.radians([0.0, 0.0, 120.0, 120.0])
         axis = np.column_stack([np.sin(t) * np.cos(phi), np.sin(t) * np.sin(phi), np.full(4, np.cos(t))])
@@ -75,7 +76,8 @@ def test_large_turns_split_at_small_tilt_and_reposition_at_large_tilt():
         cut = ~back.rapid[1:]
         assert np.abs(np.diff(back.angles, axis=0)).max(axis=1)[cut].max() <= 5.0 + 1e-3
         if repositions == 0:   # the 120 degree azimuth change: the other tilt branch turns C by 60
-            assert cut.sum() == 1 + 12 + 1 and back.rapid.sum() == 2    # steps; rapids: rotaries, approach
+            # steps; rapids: rotaries, over the start at the clearance, approach, retract (2)
+            assert cut.sum() == 1 + 12 + 1 and back.rapid.sum() == 5
 
 
 def test_unreachable_axis_names_the_point():

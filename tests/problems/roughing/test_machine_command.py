@@ -27,7 +27,7 @@ stock: {{cell: 1.0{top}}}
 roughing: {{method: {method}, max_depth: {depth}, tool: {{diameter: 8}}}}
 semifinish: {{stepover: 4, step: 3}}
 finish: {{params: {{tool: 8, stepover: 40, lead: 2, tilt: 0, step: 8}}}}
-post: {{dialect: {dialect}, kinematics: {{tilt: {{name: B, about: y, limits: {limits}}}, layout: head_table}}}}
+post: {{dialect: {dialect}, kinematics: {{tilt: {{name: B, about: y, limits: {limits}}}, layout: head_table{kin}}}}}
 """
 
 
@@ -36,14 +36,14 @@ def machine(tmp_path, *args):
                           text=True, cwd=tmp_path, timeout=300)
 
 
-def config(tmp_path, method="zlevel", depth=3.0, dialect="heidenhain", limits="[-90, 90]", top=""):
+def config(tmp_path, method="zlevel", depth=3.0, dialect="heidenhain", limits="[-90, 90]", top="", kin=""):
     path = tmp_path / "m.yaml"
-    path.write_text(SMALL.format(method=method, depth=depth, dialect=dialect, limits=limits, top=top))
+    path.write_text(SMALL.format(method=method, depth=depth, dialect=dialect, limits=limits, top=top, kin=kin))
     return path
 
 
 def test_machine_writes_every_file(tmp_path):
-    proc = machine(tmp_path, config(tmp_path), "--out", tmp_path / "out")
+    proc = machine(tmp_path, config(tmp_path), "--out", tmp_path / "out", "--check")
     assert proc.returncode == 0, proc.stderr
     out = tmp_path / "out"
     names = {p.name for p in out.iterdir()}
@@ -57,13 +57,16 @@ def test_machine_writes_every_file(tmp_path):
     for op in ("roughing", "semifinish", "finish"):
         assert summary[op]["nc_bytes"] == (out / f"{op}.nc").stat().st_size > 0
     assert summary["finish"]["multi_axis"] and not summary["roughing"]["multi_axis"]
+    assert summary["finish"]["safety"]["violations"] == [] and summary["finish"]["safety"]["clearance_plane"] == \
+        pytest.approx(summary["stock"]["z_top"] + 20)
     # the NC programs parse with the dialect's grammar and the APT files read back
     kin = Kinematics("head_table", Rotary("B", "y", (-90, 90)), Rotary("C", "z", (-360, 360)))
     post = POSTS["heidenhain"](Machine(kin))
     for op in ("roughing", "semifinish", "finish"):
         moves = post.read((out / f"{op}.nc").read_text())
         tp = read_apt(out / f"{op}.apt")
-        np.testing.assert_allclose(moves.tip[-2], tp.tip[-1], atol=1e-3)     # the last move, before the retract
+        # the APT's last point is among the last moves (then the rise to the clearance plane)
+        assert np.abs(moves.tip[-4:] - tp.tip[-1]).max(axis=1).min() < 1e-3
         assert tp.multax == (op == "finish") and tp.diameter > 0
     doc = ezdxf.read(io.StringIO((out / "surface.dxf").read_text()))
     grid = doc.modelspace().query("POLYLINE")[0]
@@ -88,6 +91,7 @@ BAD = {
     "unreachable": (dict(limits="[-3, 3]"), "post.kinematics: finish: point"),
     "stock_below": (dict(top=", top: 5"), "stock.top"),
     "iso_5axis_finish": (dict(dialect="iso"), "post.dialect: iso is a 3-axis post and the finish is 5-axis"),
+    "clearance_below_stock": (dict(kin=", clearance_plane: 3"), "post.kinematics.clearance_plane: 3 is below the stock"),
 }
 
 

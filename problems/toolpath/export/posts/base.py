@@ -19,6 +19,7 @@ to ``POSTS``.
 
 from __future__ import annotations
 
+import copy
 import re
 from dataclasses import dataclass
 
@@ -46,12 +47,20 @@ class PostError(ValueError):
 @dataclass
 class Machine:
     """What the posts need of the machine: kinematics (5-axis posts), work offset, program
-    number, and the retract distance of a reposition (unwind) move."""
+    number, the retract distance along the tool axis of a reposition, and the clearance plane
+    ``safe_z`` (absolute Z; None: ``clearance`` above the toolpath's highest point): rotary
+    turns above the kinematics' ``rotary_threshold`` happen there, every 5-axis program
+    starts and ends there."""
 
     kinematics: Kinematics | None = None
     work_offset: str = "G54"
     program_number: int = 1000
     clearance: float = 10.0
+    safe_z: float | None = None
+
+    def plane(self, tp: Toolpath) -> float:
+        """The clearance plane's Z for this toolpath."""
+        return float(tp.tip[:, 2].max() + self.clearance) if self.safe_z is None else float(self.safe_z)
 
 
 @dataclass
@@ -88,9 +97,12 @@ class Post:
 
     # ------------------------------------------------------------------ the moves
     def moves(self, tp: Toolpath) -> Moves:
-        """The moves the program makes: the toolpath's points with their angles, a retract /
-        turn / re-approach wherever the kinematics flags an unwind, and moves whose angles
-        change by more than ``max_step`` split into equal steps."""
+        """The moves the program makes (5-axis): a rapid over the first point at the clearance
+        plane, the toolpath's points with their angles, a reposition through the clearance
+        plane (retract along the axis, rise, turn, move over, come down) wherever the kinematics
+        flags an unwind or a rotary turns by more than ``rotary_threshold`` below the plane,
+        smaller turns above ``max_step`` split into equal steps, and a final retract to the
+        clearance plane (before the footer cancels TCP)."""
         feed = np.where(tp.rapid, np.nan, np.where(tp.plunge, tp.plunge_feed, tp.feed))
         if not self.five_axis:
             if tp.multi_axis:
@@ -103,29 +115,50 @@ class Post:
         if blocks > MAX_BLOCKS:  # estimated before the moves are written out
             raise ValueError(f"post.kinematics.max_step: {kin.max_step:g} degrees splits toolpath {tp.name!r} into "
                              f"{blocks:.3g} NC blocks (at most {MAX_BLOCKS:,})")
+        safe, c = self.machine.plane(tp), self.machine.clearance
+        real = kin.tool_axis(ang[:, 0], ang[:, 1])  # differs from tp.axis where the table holds near the pole
+        self.axis_error = float(np.degrees(np.arccos(np.clip(np.einsum("ij,ij->i", real, tp.axis), -1, 1))).max())
+        tp_tip = tp.tip
+        if abs(tp.tool.corner_radius - 0.5 * tp.tool.diameter) < 1e-9:  # a ball: keep its centre
+            tp_tip = tp.tip + tp.tool.corner_radius * (tp.axis - real)
+        tp = copy.copy(tp)
+        tp.tip = tp_tip
         tip, angles, rapid, f = [], [], [], []
-        c = self.machine.clearance
+
+        def add(p, a, is_rapid, feed_n):
+            tip.append(np.asarray(p, float))
+            angles.append(a)
+            rapid.append(bool(is_rapid))
+            f.append(np.nan if is_rapid else feed_n)
+
+        add([tp.tip[0, 0], tp.tip[0, 1], max(safe, tp.tip[0, 2])], ang[0], True, np.nan)
         for n in range(len(tp.tip)):
             feed_n = feed[n]
-            if unwind[n] and not tp.rapid[n]:
+            turn = np.abs(ang[n] - ang[n - 1]).max() if n else 0.0
+            high = n and min(tp.tip[n - 1, 2], tp.tip[n, 2]) >= safe - 1e-9
+            if n and (unwind[n] or turn > kin.rotary_threshold) and not high:
+                # retract along the axis, rise to the clearance plane, turn there, come down
                 up = tp.tip[n - 1] + c * tp.axis[n - 1]
                 over = tp.tip[n] + c * tp.axis[n]
-                tip += [up, up, over]
-                angles += [ang[n - 1], ang[n], ang[n]]
-                rapid += [True] * 3
-                f += [np.nan] * 3
-                feed_n = tp.plunge_feed
+                add(up, ang[n - 1], True, np.nan)
+                add([up[0], up[1], max(safe, up[2])], ang[n - 1], True, np.nan)
+                add([up[0], up[1], max(safe, up[2])], ang[n], True, np.nan)
+                add([over[0], over[1], max(safe, over[2])], ang[n], True, np.nan)
+                add(over, ang[n], True, np.nan)
+                if not tp.rapid[n]:
+                    feed_n = tp.plunge_feed
             elif n > 0:
-                k = int(np.ceil(np.abs(ang[n] - ang[n - 1]).max() / kin.max_step - 1e-9))
+                k = int(np.ceil(turn / kin.max_step - 1e-9))
                 for i in range(1, k):  # the control's own linear interpolation, written out
-                    tip.append(tp.tip[n - 1] + i / k * (tp.tip[n] - tp.tip[n - 1]))
-                    angles.append(ang[n - 1] + i / k * (ang[n] - ang[n - 1]))
-                    rapid.append(bool(tp.rapid[n]))
-                    f.append(feed_n)
-            tip.append(tp.tip[n])
-            angles.append(ang[n])
-            rapid.append(bool(tp.rapid[n]))
-            f.append(feed_n)
+                    add(tp.tip[n - 1] + i / k * (tp.tip[n] - tp.tip[n - 1]),
+                        ang[n - 1] + i / k * (ang[n] - ang[n - 1]), tp.rapid[n], feed_n)
+            add(tp.tip[n], ang[n], tp.rapid[n], feed_n)
+        last = tp.tip[-1]
+        if last[2] < safe - 1e-9:  # every program ends at the clearance, before TCP is cancelled
+            up = last if tp.rapid[-1] else last + c * tp.axis[-1]
+            if not tp.rapid[-1]:
+                add(up, ang[-1], True, np.nan)
+            add([up[0], up[1], max(safe, up[2])], ang[-1], True, np.nan)
         return Moves(np.array(tip), np.array(angles), np.array(rapid), np.array(f))
 
     # ------------------------------------------------------------------ writing
