@@ -44,6 +44,7 @@ def add_parser(sub) -> argparse.ArgumentParser:
                    help="measure along the design-surface normal (default) or vertically")
     p.add_argument("--tolerance", type=float, metavar="MM",
                    help="tolerance band of the map (default: the problem's tolerance or h_c)")
+    p.add_argument("--quiet", action="store_true", help="no progress line")
     p.add_argument("--allowance", type=float, default=0.5, metavar="MM",
                    help="finishing stock left where no pose reaches (default 0.5 mm)")
     return p
@@ -106,9 +107,9 @@ def _problem_and_plan(args):
 
 
 def main(args: argparse.Namespace) -> int:
+    from tqdm import tqdm
+
     from ..folder_writer import check_out, write_folder
-    from ..problems.toolpath.simulation import design_grid, simulate
-    from ..problems.toolpath.simulation.figures import deviation_hist_png, deviation_map_png
 
     for name in ("grid", "allowance") + (("tolerance",) if args.tolerance is not None else ()):
         value = getattr(args, name)
@@ -116,16 +117,41 @@ def main(args: argparse.Namespace) -> int:
             raise EvoplanError(f"--{name} {value}: must be a positive number of mm")
     out = Path(args.out or Path("results") / f"simulate-{time.strftime('%Y%m%d-%H%M%S')}")
     check_out(out)
+    stages = tqdm(total=4, desc="simulate", unit="stage", disable=True if args.quiet else None,
+                  bar_format="{desc}: {n}/{total} {postfix} [{elapsed}]")
+    try:
+        record, files = _measure(args, stages)
+        stages.update()
+    finally:
+        stages.close()
+    write_folder(out, files)  # all files or none (a full disk: one line)
+    print(json.dumps(record, indent=2))
+    print(f"evoplan: simulation written to {out}", flush=True)
+    return 0
+
+
+def _measure(args: argparse.Namespace, stages) -> tuple[dict, dict[str, bytes]]:
+    """The plan cut in simulation: (simulation.json record, the files' bytes), stage by stage."""
+    from ..problems.toolpath.simulation import design_grid, simulate
+    from ..problems.toolpath.simulation.figures import deviation_hist_png, deviation_map_png
+
+    stages.set_postfix_str("plan")
     config, problem, path, labels, label = _problem_and_plan(args)
     tolerance = args.tolerance or float(getattr(problem, "simulation_tolerance", 0.01))
     t0 = time.perf_counter()
     try:
+        stages.update()
+        stages.set_postfix_str(f"design grid {args.grid:g} mm")
         grid = design_grid(problem.surface, args.grid, max_bytes=_memory_limit())
+        stages.update()
+        stages.set_postfix_str(f"sweep of {len(path.tip)} CL points over {grid.z.size} cells")
         sim = simulate(path, grid, vertical=args.rays == "vertical", allowance=args.allowance,
                        mesh_labels=labels)
     except ValueError as e:
         raise ConfigError(f"{args.apt or config}: {e}") from None
     seconds = time.perf_counter() - t0
+    stages.update()
+    stages.set_postfix_str("figures")
     record = {"plan": label, **sim.summary(path, seconds)}
     title = f"{label}\nscallop max {sim.metrics['scallop_max_mm']:.4f} mm, p99 " \
             f"{sim.metrics['scallop_p99_mm']:.4f} mm, gouge max {sim.metrics['gouge_max_mm']:.4f} mm"
@@ -137,7 +163,4 @@ def main(args: argparse.Namespace) -> int:
         "deviation_hist.png": deviation_hist_png(grid, sim.residual.values, tolerance=tolerance,
                                                  allowance=args.allowance),
     }
-    write_folder(out, files)  # all files or none (a full disk: one line)
-    print(json.dumps(record, indent=2))
-    print(f"evoplan: simulation written to {out}", flush=True)
-    return 0
+    return record, files

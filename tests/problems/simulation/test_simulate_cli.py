@@ -129,3 +129,42 @@ def test_simulated_criteria_are_the_cut_simulation_of_the_plan():
         ToolpathProblem(criteria="simulated", simulation={"rays": "sideways"}, normalization=norm)
     with pytest.raises(ValueError, match="criteria"):
         ToolpathProblem(criteria="dreamed", normalization=norm)
+
+
+def _on_a_terminal(argv, cwd):
+    """Run ``python -m evoplan ARGV`` with a pseudo-terminal as stdout and stderr; its output."""
+    import os
+    import pty
+    import subprocess
+    import sys
+
+    import fcntl
+    import struct
+    import termios
+
+    leader, follower = pty.openpty()
+    fcntl.ioctl(follower, termios.TIOCSWINSZ, struct.pack("HHHH", 30, 120, 0, 0))  # a terminal's size
+    env = {**os.environ, "MPLBACKEND": "Agg", "COLUMNS": "120"}
+    proc = subprocess.Popen([sys.executable, "-m", "evoplan", *argv], stdout=follower, stderr=follower,
+                            cwd=cwd, env=env)
+    os.close(follower)
+    chunks = []
+    while True:
+        try:
+            data = os.read(leader, 4096)
+        except OSError:
+            break
+        if not data:
+            break
+        chunks.append(data)
+    assert proc.wait(timeout=300) == 0
+    os.close(leader)
+    return b"".join(chunks).decode(errors="replace")
+
+
+def test_progress_on_a_terminal_and_quiet_silences_it(tmp_path):
+    base = ["simulate", str(RUN), *SETS, "--grid", "0.5"]
+    shown = _on_a_terminal([*base, "--out", "a"], tmp_path)
+    assert "simulate: 4/4" in shown and "sweep of" in shown
+    quiet = _on_a_terminal([*base, "--out", "b", "--quiet"], tmp_path)
+    assert "simulate:" not in quiet and "scallop_max_mm" in quiet
