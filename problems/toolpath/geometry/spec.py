@@ -184,7 +184,7 @@ def parse_surface(spec, key: str = "surface", base_dir=None) -> Surface:
     if not isinstance(spec, dict):
         _fail(key, f"expected a name or a mapping, got {spec!r}")
     kind = spec.get("type")
-    if kind not in _KEYS:
+    if not isinstance(kind, str) or kind not in _KEYS:
         _fail(f"{key}.type", f"expected one of {', '.join(_KEYS)}, got {kind!r}")
     unknown = set(spec) - _KEYS[kind]
     if unknown:
