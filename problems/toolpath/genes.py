@@ -9,6 +9,7 @@ A configuration reads some of these genes (``Planner.gene_names``, in this order
     tilt      degrees, about the feed                             [0, 2]     (5-axis)
     step      maximum distance between CC points, mm              [5, 10]
     zones     the zoning method's gene: K (kmeans), k_lz (amas)    the method's
+    strategy  the pass layout: a choice over the run file's list   every listed strategy
 
 Each gene is either a **variable** of the chromosome, over ``ranges: {name: [lo, hi]}``, or
 **fixed** by ``fixed: {name: value}`` (the tool by its id; a database of one tool fixes
@@ -56,11 +57,16 @@ class GeneSpace:
     """
 
     def __init__(self, names, tools, ranges=None, fixed=None, absent=None, zone_gene=None,
-                 zone_range: Callable | None = None, zone_value: Callable | None = None):
+                 zone_range: Callable | None = None, zone_value: Callable | None = None,
+                 choices: dict | None = None):
         self.names, self.tools = tuple(names), tools
         self.integer = {zone_gene.name} if zone_gene is not None and zone_gene.integer else set()
+        # categorical genes (``strategy``): name -> the option names, decoded as an index
+        self.choices = {k: tuple(v) for k, v in (choices or {}).items() if k in self.names}
+        self.integer |= set(self.choices)
         absent = dict(absent or {})
-        known = list(GENE_ORDER) + list(absent) + ([zone_gene.name] if zone_gene else [])
+        known = (list(GENE_ORDER) + list(absent) + ([zone_gene.name] if zone_gene else [])
+                 + list(self.choices))
         self.fixed = self._fixed(fixed, absent, known, zone_gene, zone_value)
         if len(tools) == 1 and "tool" in self.names:
             self.fixed.setdefault("tool", 0.0)  # a database of one tool fixes the tool
@@ -94,6 +100,12 @@ class GeneSpace:
                     raise ValueError(f"{key}: no tool with id {value!r} (ids: "
                                      f"{', '.join(map(str, self.tools.ids))})") from None
                 continue
+            if name in self.choices:
+                if value not in self.choices[name]:
+                    raise ValueError(f"{key}: expected one of {', '.join(self.choices[name])}, "
+                                     f"got {value!r}")
+                out[name] = float(self.choices[name].index(value))
+                continue
             x = number(value, key)
             if zone_gene is not None and name == zone_gene.name:
                 if zone_gene.integer and x != int(x):
@@ -114,6 +126,10 @@ class GeneSpace:
             if name == "tool":
                 raise ValueError(f"{key}: the tool is a choice over the tool database (list "
                                  f"fewer tools, or fix one with fixed: {{tool: ID}})")
+            if name in self.choices:
+                raise ValueError(f"{key}: {name} is a choice among "
+                                 f"{', '.join(self.choices[name])} (fix one with fixed: "
+                                 f"{{{name}: NAME}})")
             if name in self.fixed:
                 raise ValueError(f"{key}: {name} is fixed (fixed.{name}); give a range or a "
                                  f"fixed value, not both")
@@ -125,6 +141,9 @@ class GeneSpace:
             if name == "tool" or name in self.fixed:
                 continue
             key = f"ranges.{name}"
+            if name in self.choices:
+                out[name] = (0.0, len(self.choices[name]) - 1.0)
+                continue
             if zone_gene is not None and name == zone_gene.name:
                 out[name] = tuple(float(b) for b in zone_range(spec.get(name, zone_gene.bounds)))
                 continue
@@ -137,6 +156,8 @@ class GeneSpace:
     def _variable(self, name):
         if name == "tool":
             return Choice(options=[int(i) for i in self.tools.ids])
+        if name in self.choices:
+            return Integer(bounds=(0, len(self.choices[name]) - 1))
         if name in self.integer:
             return Integer(bounds=tuple(int(b) for b in self.bounds[name]))
         return Real(bounds=self.bounds[name])
@@ -189,16 +210,29 @@ class GeneSpace:
         for name, value in self.fixed.items():
             if name in params:
                 given = (self.tools.index_of(params[name]) if name == "tool"
+                         else self._choice(name, params[name]) if name in self.choices
                          else number(params[name], f"params.{name}"))
                 if given != value:
-                    shown = self.tools.ids[int(value)] if name == "tool" else f"{value:g}"
+                    shown = (self.tools.ids[int(value)] if name == "tool" else
+                             self.choices[name][int(value)] if name in self.choices
+                             else f"{value:g}")
                     raise ValueError(f"params.{name}: fixed at {shown} by the problem's config")
         missing = [k for k in self.free if k not in params]
         if missing:
             raise ValueError(f"params.{missing[0]}: missing")
-        x = [float(self.tools.index_of(params[k])) if k == "tool" else number(params[k], f"params.{k}")
+        x = [float(self.tools.index_of(params[k])) if k == "tool" else
+             self._choice(k, params[k]) if k in self.choices else number(params[k], f"params.{k}")
              for k in self.free]
         return self.check(np.array([x]))
+
+    def _choice(self, name, value) -> float:
+        """The index of a categorical gene's option given by name (or index)."""
+        opts = self.choices[name]
+        if value in opts:
+            return float(opts.index(value))
+        if isinstance(value, (int, float)) and not isinstance(value, bool) and value in range(len(opts)):
+            return float(value)
+        raise ValueError(f"params.{name}: expected one of {', '.join(opts)}, got {value!r}")
 
     def decode(self, X) -> dict[str, np.ndarray]:
         """Rows X (n, n_var) -> every gene as an (n,) array, fixed ones inserted; ``tool`` the
@@ -211,6 +245,8 @@ class GeneSpace:
                 else X[:, self.free.index(name)]
             if name == "tool":
                 col = np.clip(np.rint(col), 0, len(self.tools) - 1).astype(np.int64)
+            elif name in self.choices:
+                col = np.clip(np.rint(col), 0, len(self.choices[name]) - 1)
             elif name in self.integer:
                 col = np.rint(col)
             genes[name] = col
@@ -220,6 +256,7 @@ class GeneSpace:
         """Every gene of one row by name (the tool by its id, fixed genes included)."""
         genes = self.decode(x)
         return {k: (int(self.tools.ids[int(v[0])]) if k == "tool" else
+                    self.choices[k][int(v[0])] if k in self.choices else
                     int(v[0]) if k in self.integer else float(v[0])) for k, v in genes.items()}
 
     def design(self, n_random: int = 64, seed: int = 0) -> np.ndarray:

@@ -83,7 +83,9 @@ class ToolpathProblem(Problem):
             absent=absent_genes(machine, spacing, layouts.method.name,
                                 self.planner.strategy.name),
             zone_gene=layouts.method.gene, zone_range=self._zone_range,
-            zone_value=self._zone_value)
+            zone_value=self._zone_value,
+            choices={"strategy": [st.name for st in self.planner.choices]}
+            if self.planner.choices else None)
         self.weights = parse_weights(weights, "weights")
         self.objectives = None if objectives is None else parse_objectives(objectives)
         if criteria not in ("analytic", "simulated"):

@@ -121,3 +121,67 @@ class PlanBatch:
         return CLPath(self.tip[idx], self.axis[idx], diameter, corner_radius,
                       section=sec - sec.min(initial=0), pass_index=pass_index, zone=zone,
                       feed_rate=feed_rate, info=info)
+
+
+def merge_batches(n: int, parts) -> PlanBatch:
+    """One PlanBatch of n plans from ``parts``: [(rows, batch)], each batch planning the
+    individuals ``rows`` (its individual i is rows[i]); sections reordered by individual
+    (each part keeps its own order), so the plans of several strategies form one batch.
+    Plane parts get the per-point cross-feed fields from their sections when any part has
+    them (``pt_cross``: the plane's c; ``pt_gap``: its spacing; ``pt_gap_side``: the side of
+    the travel the gap lies on)."""
+    curves = any(b.pt_cross is not None for _, b in parts)
+    sec_keys = ("sec_zone", "sec_pass", "sec_d", "sec_alpha", "sec_reverse", "sec_spacing",
+                "sec_side")
+    pt_keys = ("u", "v", "p", "normal", "tangent", "axis", "chord", "on_part")
+    cat = {k: [] for k in sec_keys + pt_keys + ("sec_ind", "sec_start", "sec_count", "tip",
+                                                "seg_sec", "seg_err", "seg_len", "seg_cc",
+                                                "pt_cross", "pt_gap", "pt_gap_side")}
+    zones = np.ones(n, np.int64)
+    s_off = p_off = 0
+    for rows, b in parts:
+        rows = np.asarray(rows)
+        zones[rows] = b.zones
+        cat["sec_ind"].append(rows[b.sec_ind])
+        for k in sec_keys + pt_keys:
+            cat[k].append(getattr(b, k))
+        cat["sec_start"].append(b.sec_start + p_off)
+        cat["sec_count"].append(b.sec_count)
+        cat["tip"].append(b.tip)
+        cat["seg_sec"].append(b.seg_sec + s_off)
+        cat["seg_err"].append(b.seg_err)
+        cat["seg_len"].append(b.seg_len)
+        cat["seg_cc"].append(np.ones(len(b.seg_len), bool) if b.seg_cc is None else b.seg_cc)
+        if curves:
+            if b.pt_cross is not None:
+                cross, gap, side = b.pt_cross, b.pt_gap, b.pt_gap_side
+            else:
+                a = b.sec_alpha[b.pt_sec]
+                cross = np.column_stack([-np.sin(a), np.cos(a), np.zeros_like(a)])
+                gap = b.sec_spacing[b.pt_sec]
+                side = np.where(b.sec_reverse, -1, 1)[b.pt_sec] * b.sec_side[b.pt_sec]
+            cat["pt_cross"].append(cross)
+            cat["pt_gap"].append(gap)
+            cat["pt_gap_side"].append(side)
+        s_off += len(b.sec_ind)
+        p_off += len(b.u)
+    c = {k: (np.concatenate(v) if v and all(x is not None for x in v) else None)
+         for k, v in cat.items()}
+    order = np.argsort(c["sec_ind"], kind="stable")
+    inv = np.empty_like(order)
+    inv[order] = np.arange(len(order))
+    count = c["sec_count"][order]
+    start = np.cumsum(count) - count
+    pt_sec = np.repeat(np.arange(len(order)), count)
+    src = c["sec_start"][order][pt_sec] + (np.arange(len(pt_sec)) - start[pt_sec])
+    seg_sec = inv[c["seg_sec"]]
+    so = np.argsort(seg_sec, kind="stable")
+    pt = {k: c[k][src] for k in pt_keys}
+    extra = {k: (None if c[k] is None else c[k][src]) for k in ("pt_cross", "pt_gap",
+                                                                 "pt_gap_side")}
+    return PlanBatch(
+        n=n, zones=zones, sec_ind=c["sec_ind"][order],
+        **{k: c[k][order] for k in sec_keys}, sec_start=start, sec_count=count,
+        pt_sec=pt_sec, tip=None if c["tip"] is None else c["tip"][src],
+        seg_sec=seg_sec[so], seg_err=c["seg_err"][so], seg_len=c["seg_len"][so],
+        seg_cc=c["seg_cc"][so], **pt, **extra)

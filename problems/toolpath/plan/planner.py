@@ -28,7 +28,7 @@ import numpy as np
 from ..geometry.surface import Surface
 from ..tools import ToolDatabase
 from ..clpath import CLPath
-from .batch import PlanBatch
+from .batch import PlanBatch, merge_batches
 from .orientation import get_machine
 from .planes import PassGeometry
 from .strategies import get_strategy
@@ -73,15 +73,23 @@ class Planner:
         self.edge_overrun = bool(edge_overrun) and self.machine.overrun
         self.layouts = ZoneLayouts(surface, tools, zoning, self.h_c, self.feed_angle)
         self._geoms: dict[float, PassGeometry] = {}
-        self.strategy = get_strategy(strategy)
-        self.strategy.check(self)
+        # a list of strategies: the categorical gene ``strategy`` chooses among them
+        self.choices = ([get_strategy(x, f"strategy[{i}]") for i, x in enumerate(strategy)]
+                        if isinstance(strategy, (list, tuple)) else None)
+        if self.choices is not None and not self.choices:
+            raise ValueError("strategy: an empty list of strategies to choose from")
+        self.strategy = self.choices[0] if self.choices else get_strategy(strategy)
+        for st in self.choices or [self.strategy]:
+            st.check(self)
 
     # ---------------------------------------------------------------------------------
     @property
     def gene_names(self) -> tuple[str, ...]:
         """The decisions this configuration reads, in chromosome order."""
-        own = self.strategy.gene_names(self)
-        names = [g for g in own if g != "step"] + list(self.machine.genes) + ["step"]
+        own = dict.fromkeys(g for st in (self.choices or [self.strategy])
+                            for g in st.gene_names(self))
+        names = [g for g in ("tool", "stepover") if g in own] + list(self.machine.genes)
+        names += ["step"] + (["strategy"] if self.choices else [])
         if self.layouts.gene is not None:
             names.append(self.layouts.gene)
         return tuple(names)
@@ -90,8 +98,15 @@ class Planner:
     def zoned(self) -> bool:
         """Whether plans go through zone layouts (False: one zone fed along the configured
         direction at a fixed step-over, every plane across the whole footprint)."""
-        return not (self.layouts.gene is None and self.layouts.single
-                    and self.spacing == "stepover" and self.strategy.name == "parallel")
+        return not (self.whole_planes and self.strategy.name == "parallel"
+                    and not self.choices)
+
+    @property
+    def whole_planes(self) -> bool:
+        """Whether parallel planes need no zone layout: one zone, the configured direction, a
+        fixed step-over (every plane across the whole footprint)."""
+        return (self.layouts.gene is None and self.layouts.single
+                and self.spacing == "stepover")
 
     def layout(self, genes: dict):
         """The zone layout (``zones.ZoneLayout``) of the first decision set of ``genes``, or
@@ -128,8 +143,23 @@ class Planner:
         (n,) array (``tool`` the INDEX into the database). ``place``: also the CL points
         (``tip``); the analytic criteria do not need them, and a 3-axis drop-cutter
         placement is the costliest step of a plan, so an evaluation skips it. The passes
-        are the strategy's (``strategies/``)."""
-        return self.strategy.plan(self, genes, place)
+        are the strategy's (``strategies/``); with a ``strategy`` gene (an index into the
+        planner's list of strategies) each strategy plans its individuals and the plans
+        form one batch."""
+        if not self.choices:
+            return self.strategy.plan(self, genes, place)
+        missing = [g for g in self.gene_names if g not in genes]
+        if missing:
+            raise ValueError(f"genes: missing {', '.join(missing)}")
+        k = np.clip(np.rint(np.asarray(genes["strategy"], float)), 0,
+                    len(self.choices) - 1).astype(np.int64)
+        parts = []
+        for s in np.unique(k):
+            rows = np.flatnonzero(k == s)
+            sub = {g: np.broadcast_to(np.asarray(v), (len(k),))[rows] for g, v in genes.items()}
+            parts.append((rows, self.choices[s].plan(self, sub, place)))
+        return parts[0][1] if len(parts) == 1 and len(parts[0][0]) == len(k) else \
+            merge_batches(len(k), parts)
 
     def cl_path(self, genes: dict, feed_rate: float = 1000.0, chord_rounds: int = 8) -> CLPath:
         """The toolpath of ONE decision set (``genes``: a value or a (1,) array per name) as

@@ -12,7 +12,10 @@ weighs only its inside part):
   exactly is not a gouge);
 - uncut fraction: the share of the part's area that no pose brought within the allowance.
 
-Per-zone figures use a label per cell (-1 off every zone).
+Per-zone figures use a label per cell (-1 off every zone). :func:`meets_h_c` is the verdict
+a plan is judged by (p99 under h_c, max at most 1.1 h_c, nothing uncut, gouge within the
+chord tolerance), read on a 0.05 mm grid; :func:`verdicts` sets it side by side on several
+grids and flags a verdict that changes between the two finest.
 """
 
 from __future__ import annotations
@@ -21,7 +24,8 @@ import numpy as np
 
 from .design import DesignGrid
 
-__all__ = ["residual_metrics", "zone_metrics", "KEYS"]
+__all__ = ["residual_metrics", "zone_metrics", "KEYS", "meets_h_c", "verdicts", "VERDICT_GRID_MM",
+           "VERDICT_GRIDS_MM"]
 
 KEYS = ("scallop_max_mm", "scallop_mean_mm", "scallop_p50_mm", "scallop_p90_mm",
         "scallop_p99_mm", "gouge_max_mm", "gouge_area_mm2", "uncut_fraction", "area_mm2")
@@ -78,3 +82,36 @@ def cell_labels(grid: DesignGrid, mesh_labels: np.ndarray) -> np.ndarray:
     iu = np.clip((u * n).astype(int), 0, n - 1)
     iv = np.clip((v * m).astype(int), 0, m - 1)
     return np.where(grid.inside, mesh_labels[iu, iv], -1)
+
+
+#: the grid (mm) a "meets h_c" verdict is read on, and the grids reproduction tables show
+VERDICT_GRID_MM = 0.05
+VERDICT_GRIDS_MM = (0.2, 0.1, 0.05)
+
+
+def meets_h_c(metrics: dict, h_c: float, tolerance: float) -> tuple[bool, list[str]]:
+    """Whether a simulated cut meets the scallop target h_c, and why not: its p99 under
+    h_c, its max at most 1.1 h_c, nothing uncut, the gouge within the chord tolerance.
+    ``metrics``: the figures of :func:`residual_metrics` (read it on a 0.05 mm grid,
+    ``VERDICT_GRID_MM``, before calling a plan good)."""
+    why = []
+    if not metrics["scallop_p99_mm"] < h_c:
+        why.append(f"p99 {metrics['scallop_p99_mm']:.3f} >= h_c {h_c:g}")
+    if not metrics["scallop_max_mm"] <= 1.1 * h_c:
+        why.append(f"max {metrics['scallop_max_mm']:.3f} > 1.1 h_c {1.1 * h_c:.3f}")
+    if metrics["uncut_fraction"] > 0:
+        why.append(f"uncut {100 * metrics['uncut_fraction']:.3f} % of the area")
+    if not metrics["gouge_max_mm"] <= tolerance:
+        why.append(f"gouge {metrics['gouge_max_mm']:.4f} > tolerance {tolerance:g}")
+    return not why, why
+
+
+def verdicts(by_grid: dict, h_c: float, tolerance: float) -> dict:
+    """The verdict on each grid (``by_grid``: grid mm -> metrics) side by side: per grid
+    (meets, reasons), ``final`` the verdict on the finest grid, ``flip`` True when the
+    verdict on the finest grid differs from the next coarser one (a verdict the coarser
+    grid would have got wrong)."""
+    grids = sorted(by_grid, reverse=True)
+    out = {g: meets_h_c(by_grid[g], h_c, tolerance) for g in grids}
+    flip = len(grids) > 1 and out[grids[-1]][0] != out[grids[-2]][0]
+    return {"by_grid": out, "final": out[grids[-1]][0], "flip": bool(flip)}

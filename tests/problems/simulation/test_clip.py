@@ -41,3 +41,19 @@ def test_clipped_areas_sum_to_chois_area():
     assert abs(grid.cell_area().sum() / area - 1) < 1e-6
     # no cell carries more than its own square plus the slivers of its neighbours
     assert grid.weight.max() <= 3.0 + 1e-9 and grid.weight[grid.inside].min() > 0
+
+
+def test_meets_h_c_verdict_and_flips():
+    from evoplan.problems.toolpath.simulation.metrics import meets_h_c, verdicts
+
+    good = {"scallop_p99_mm": 0.24, "scallop_max_mm": 0.27, "uncut_fraction": 0.0,
+            "gouge_max_mm": 0.004}
+    assert meets_h_c(good, 0.254, 0.01) == (True, [])
+    for key, value, word in (("scallop_p99_mm", 0.254, "p99"), ("scallop_max_mm", 0.28, "max"),
+                             ("uncut_fraction", 1e-6, "uncut"), ("gouge_max_mm", 0.011, "gouge")):
+        ok, why = meets_h_c({**good, key: value}, 0.254, 0.01)
+        assert not ok and len(why) == 1 and why[0].startswith(word)
+    v = verdicts({0.2: good, 0.1: good, 0.05: {**good, "scallop_max_mm": 0.303}}, 0.254, 0.01)
+    assert v["final"] is False and v["flip"] is True and v["by_grid"][0.2][0] is True
+    v = verdicts({0.2: {**good, "scallop_max_mm": 0.3}, 0.1: good, 0.05: good}, 0.254, 0.01)
+    assert v["final"] is True and v["flip"] is False

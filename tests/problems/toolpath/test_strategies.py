@@ -152,3 +152,43 @@ def test_zone_command_writes_the_apt_and_both_lengths_per_strategy(tmp_path, cap
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "strategy.curves: a setting of isoparametric" in err[0]
     assert not (tmp_path / "c").exists()
+
+
+def _problem(**kw):
+    from evoplan.problems.toolpath.problem import ToolpathProblem
+
+    return ToolpathProblem(surface="choi", tools=BALL, machine="3axis", spacing="scallop",
+                           h_c=H_C, feed_angle="optimized", weights={"eq4_total": 1.0},
+                           normalization={"eq4_total": [0, 1]}, ranges={"step": [1.0, 2.0]},
+                           **kw)
+
+
+def test_categorical_strategy_gene_decodes_to_every_strategy_and_stays_fixed_when_fixed():
+    from evoplan.problems.toolpath.criteria.analytic import analytic_criteria
+
+    names = ["parallel", "isoscallop", "isoparametric"]
+    pr = _problem(strategy=names)
+    assert pr.genes.free == ("step", "strategy")
+    X = np.array([[1.0, 0.0], [1.0, 1.0], [1.5, 2.0], [1.0, 1.2]])
+    genes = pr.genes.decode(X)
+    assert genes["strategy"].tolist() == [0, 1, 2, 1]
+    assert [pr.genes.named(x)["strategy"] for x in X] == names + ["isoscallop"]
+    batch = pr.planner.plan(genes, place=False)
+    crit = analytic_criteria(batch, pr.planner.surface, pr.tool_db, genes, allowance=0.5,
+                             feed_rate=1000.0, delta_l=40.0, machine="3axis")
+    for i, name in enumerate(names + ["isoscallop"]):  # each plan is its strategy's own
+        one = Planner(pr.planner.surface, pr.tool_db, machine="3axis", spacing="scallop",
+                      h_c=H_C, feed_angle=None, strategy=name)
+        g = {"tool": genes["tool"][i:i + 1], "step": genes["step"][i:i + 1]}
+        b = one.plan(g, place=False)
+        c = analytic_criteria(b, one.surface, pr.tool_db, g, allowance=0.5, feed_rate=1000.0,
+                              delta_l=40.0, machine="3axis")
+        for key in ("length_on_part_mm", "cc_count", "scallop_max", "n_sections"):
+            assert crit[key][i] == pytest.approx(c[key][0], rel=1e-12), (name, key)
+    fixed = _problem(strategy=names, fixed={"strategy": "isoscallop"})
+    assert fixed.genes.free == ("step",)
+    assert fixed.genes.decode(np.array([[1.0], [2.0]]))["strategy"].tolist() == [1, 1]
+    with pytest.raises(ValueError, match=r"^fixed\.strategy: expected one of parallel, "):
+        _problem(strategy=names, fixed={"strategy": "spiral"})
+    with pytest.raises(ValueError, match=r"^strategy\[1\]: unknown strategy 'spiral'"):
+        _problem(strategy=["parallel", "spiral"])

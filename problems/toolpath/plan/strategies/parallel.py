@@ -30,7 +30,7 @@ class Parallel(Strategy):
         tool, n, step, delta = planner.decisions(genes)
         parts: list[Sections] = []
         zones = np.ones(n, np.int64)
-        if not planner.zoned:
+        if planner.whole_planes:
             geom = planner.geometry(np.radians(planner.feed_angle))
             parts.append(full_plane_sections(geom, np.arange(n), delta, step))
         else:
