@@ -8,8 +8,6 @@ file; the specific ones probe one command's settings.
 
 from __future__ import annotations
 
-from pathlib import Path
-
 RUN = """seed: 1
 problem: {name: kubota, bits: 12}
 algorithm: {name: ga, population: 8}
@@ -39,10 +37,16 @@ USER_MODULES = {
     "h14_exits": "import sys\nsys.exit(3)\n",
 }
 
-# the machine command's small job (the one its own tests run), read from that test's text
-MACHINE = ((Path(__file__).resolve().parents[1] / "problems/roughing/test_machine_command.py").read_text()
-           .split('SMALL = """')[1].split('"""')[0]
-           .format(top="", method="zlevel", depth=3.0, dialect="heidenhain", limits="[-90, 90]"))
+# a small machining job (a 40 x 30 mm Bezier patch), written here in flow style
+MACHINE = ("name: small\n"
+           "surface: {type: bezier, poles: [[[0, 0, 0], [0, 15, 4], [0, 30, 0]], [[20, 0, 4], [20, 15, 14], "
+           "[20, 30, 4]], [[40, 0, 0], [40, 15, 4], [40, 30, 0]]]}\n"
+           "stock: {cell: 1.0}\n"
+           "roughing: {method: zlevel, max_depth: 3.0, tool: {diameter: 8}}\n"
+           "semifinish: {stepover: 4, step: 3}\n"
+           "finish: {params: {tool: 8, stepover: 40, lead: 2, tilt: 0, step: 8}}\n"
+           "post: {dialect: heidenhain, kinematics: {tilt: {name: B, about: y, limits: [-90, 90]}, "
+           "layout: head_table}}\n")
 
 # a toolpath run file for simulate (its plan given by --set)
 SIMULATE = RUN.replace("name: kubota, bits: 12", "name: toolpath, bits: 8")
