@@ -75,7 +75,7 @@ def test_the_writer_on_injected_enospc_leaves_nothing(tmp_path, monkeypatch):
     assert list(tmp_path.iterdir()) == []
 
 
-@pytest.mark.parametrize("name", ["machine", "zone"])
+@pytest.mark.parametrize("name", ["simulate", "machine", "zone"])
 def test_a_kill_mid_write_leaves_no_finished_looking_folder(tmp_path, name):
     """SIGKILL while the files are written (fsync slowed down): ``out`` does not exist, and the
     next writer into the same ``--out`` succeeds and removes the dead writer's partial folder."""
@@ -96,4 +96,26 @@ def test_a_kill_mid_write_leaves_no_finished_looking_folder(tmp_path, name):
     assert not out.exists() and list(tmp_path.glob(".out.*.partial"))
     again = evoplan([*command(tmp_path, name), "--out", str(out)])
     assert again.returncode == 0, again.stderr
-    assert (out / "summary.json").is_file() and not list(tmp_path.glob(".out.*.partial"))
+    assert not list(tmp_path.glob(".out.*.partial"))
+    assert (out / ("simulation.json" if name == "simulate" else "summary.json")).is_file()
+
+
+def test_a_study_killed_mid_way_resumes_to_the_uninterrupted_numbers(tmp_path):
+    """SIGKILL while cells are being written; running the same command again finishes the
+    study with the numbers of one never interrupted (a study folder is resumable by design)."""
+    path = tmp_path / "s.yaml"
+    path.write_text(STUDY.replace("seeds: 2", "seeds: 6"))
+    assert evoplan(["study", str(path), "--out", str(tmp_path / "fresh")]).returncode == 0
+    out = tmp_path / "killed"
+    proc = subprocess.Popen([sys.executable, "-m", "evoplan", "study", str(path), "--out", str(out)], env=ENV,
+                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    deadline = time.time() + 120
+    while time.time() < deadline and len(list((out / "cells").glob("*.json"))) < 2:
+        time.sleep(0.01)
+    proc.send_signal(signal.SIGKILL)
+    proc.wait()
+    assert not (out / "report.md").exists(), "killed after it finished: the test proves nothing"
+    assert evoplan(["study", str(path), "--out", str(out)]).returncode == 0
+    import pandas as pd
+    got, expected = (pd.read_csv(d / "runs.csv").drop(columns="wall_seconds") for d in (out, tmp_path / "fresh"))
+    pd.testing.assert_frame_equal(got, expected)
