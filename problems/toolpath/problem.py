@@ -26,6 +26,7 @@ from pymoo.core.problem import Problem
 
 from .checks import number
 from .criteria.analytic import ANALYTIC, analytic_criteria
+from .criteria.kinematic_time import parse_dynamics
 from .criteria.objective import (
     bounds_from_sample, normalize, parse_bounds, parse_objectives, parse_weights, weighted_sum,
 )
@@ -52,7 +53,9 @@ class ToolpathProblem(Problem):
     The judgement: ``weights`` (criterion -> weight, default machining_error 0.5 + cc_count
     0.5), ``objectives`` (a list of criteria: a multi-objective F), ``normalization``
     {criterion: [lo, hi]} (given bounds; ``[0, 1]`` keeps a criterion's raw value),
-    ``normalization_samples`` / ``seed`` of the fixed design, ``feed_rate`` mm/min (1000),
+    ``normalization_samples`` / ``seed`` of the fixed design, ``feed_rate`` mm/min (1000, for
+    ``machining_time_nominal``), ``dynamics`` {accel, jerk, feed, rapid, corner_tolerance}
+    (the machine's limits for the kinematic ``machining_time``),
     ``allowance`` finishing stock mm (0.5), ``criteria`` analytic | simulated (with
     ``simulation`` {grid_mm, rays, allowance}: scallop, gouge and machining error measured by
     the cut simulation; the normalization design is simulated too).
@@ -64,7 +67,7 @@ class ToolpathProblem(Problem):
                  tolerance=0.01, feed_rate=1000.0, allowance=0.5, weights=None,
                  objectives=None, normalization=None, normalization_samples=64, seed=0,
                  criteria="analytic", simulation=None, ranges=None, fixed=None,
-                 base_dir=None, max_rounds=6, edge_overrun=True, strategy=None):
+                 base_dir=None, max_rounds=6, edge_overrun=True, strategy=None, dynamics=None):
         surf = parse_surface(surface, "surface", base_dir)
         self.tool_db = parse_tools(tools, "tools")
         self.machine = machine
@@ -75,6 +78,7 @@ class ToolpathProblem(Problem):
                                      strategy=strategy)
         self.delta_l = number(delta_l, "delta_l")
         self.feed_rate = number(feed_rate, "feed_rate", positive=True)
+        self.dynamics = parse_dynamics(dynamics, "dynamics")
         self.allowance = number(allowance, "allowance", positive=True)
         self.tolerance = self.planner.tolerance
         layouts = self.planner.layouts
@@ -174,7 +178,8 @@ class ToolpathProblem(Problem):
         batch, genes = self.plan(X, place=False)
         crit = analytic_criteria(batch, self.surface, self.tool_db, genes,
                                  allowance=self.allowance, feed_rate=self.feed_rate,
-                                 delta_l=self.delta_l, machine=self.machine)
+                                 delta_l=self.delta_l, machine=self.machine,
+                                 dynamics=self.dynamics)
         if self.simulated is not None:
             rows = []
             for i, t in enumerate(genes["tool"]):

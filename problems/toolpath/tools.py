@@ -42,6 +42,9 @@ class Tool:
     type: str
     name: str = ""
     cutter: Cutter | None = field(default=None, compare=False, repr=False)
+    feed: float | None = None          # mm/min (the kinematic machining time and the NC program)
+    plunge_feed: float | None = None   # mm/min
+    spindle: float | None = None       # rpm
 
     def __post_init__(self):
         if self.cutter is None:
@@ -101,7 +104,8 @@ def parse_tools(spec=None, key: str = "tools") -> ToolDatabase:
 
     Each entry: ``diameter`` (> 0), ``corner_radius`` (0 <= r <= D/2), optional ``id``
     (default: position + 1), ``type`` (flat/ball/toroidal; checked against r when given),
-    ``name``. The shape comes from :func:`~.cutters.make_cutter` (a registered name or
+    ``name``, and the cutting data ``feed`` (mm/min), ``plunge_feed`` (mm/min), ``spindle``
+(rpm): an entry with any of them needs its ``feed``. The shape comes from :func:`~.cutters.make_cutter` (a registered name or
     alias is accepted as ``type``). Errors are one-line ValueErrors starting with the key
     path, e.g.
     ``tools[2].corner_radius: 9 exceeds the tool radius 8``.
@@ -115,7 +119,8 @@ def parse_tools(spec=None, key: str = "tools") -> ToolDatabase:
         k = f"{key}[{i}]"
         if not isinstance(item, dict):
             raise ValueError(f"{k}: expected a mapping, got {item!r}")
-        unknown = set(item) - {"id", "type", "diameter", "corner_radius", "name"}
+        unknown = set(item) - {"id", "type", "diameter", "corner_radius", "name", "feed", "plunge_feed",
+                               "spindle"}
         if unknown:
             raise ValueError(f"{k}: unknown key(s) {', '.join(sorted(unknown))}")
         if "diameter" not in item:
@@ -134,8 +139,16 @@ def parse_tools(spec=None, key: str = "tools") -> ToolDatabase:
         tid = item.get("id", i + 1)
         if isinstance(tid, bool) or not isinstance(tid, (int, np.integer)):
             raise ValueError(f"{k}.id: expected an integer, got {tid!r}")
+        rates = {}
+        for rk in ("feed", "plunge_feed", "spindle"):
+            if rk in item:
+                rates[rk] = number(item[rk], f"{k}.{rk}")
+                if rates[rk] <= 0:
+                    raise ValueError(f"{k}.{rk}: must be > 0, got {rates[rk]:g}")
+        if rates and "feed" not in rates:
+            raise ValueError(f"{k}.feed: missing (an entry with {', '.join(sorted(rates))} needs its feed, mm/min)")
         tools.append(Tool(int(tid), d, cutter.corner_radius, cutter.kind,
-                          str(item.get("name", "")), cutter))
+                          str(item.get("name", "")), cutter, **rates))
     ids = [t.id for t in tools]
     dup = sorted({x for x in ids if ids.count(x) > 1})
     if dup:

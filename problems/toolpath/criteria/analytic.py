@@ -51,6 +51,7 @@ import numpy as np
 
 from ..geometry.surface import normal_curvature, unit_normal
 from .heel import pose_gouge
+from .kinematic_time import kinematic_time
 from .scallop import gap_heights
 from .scallop_3axis import gap_heights_3axis
 from .table import names
@@ -194,15 +195,16 @@ def _plan_counts(batch) -> dict[str, np.ndarray]:
 
 
 def analytic_criteria(batch, surface, tools, genes: dict, *, allowance: float,
-                      feed_rate: float, delta_l: float, machine: str | None = None
-                      ) -> dict[str, np.ndarray]:
+                      feed_rate: float, delta_l: float, machine: str | None = None,
+                      dynamics=None) -> dict[str, np.ndarray]:
     """Every analytic criterion (``ANALYTIC``, table order), each (n,), of the n plans of
     ``batch`` (a ``PlanBatch``) on ``surface``.
 
     tools: the ``ToolDatabase``; genes: per plan (n,) arrays, ``tool`` the tool INDEX and, for
     a 5-axis plan, ``lead`` and ``tilt`` (degrees); other genes are ignored. allowance:
     finishing stock (mm, the cap of a scallop); feed_rate (mm/min); delta_l: Djebali's
-    Delta L per extra zone (mm). machine: ``5axis`` | ``3axis``; None: 5-axis when the genes
+    Delta L per extra zone (mm). dynamics: the machine's limits (``kinematic_time.Dynamics``,
+    None: the defaults) for ``machining_time``. machine: ``5axis`` | ``3axis``; None: 5-axis when the genes
     hold lead and tilt. Points off the part (``on_part`` False) count in the lengths only.
     """
     n = batch.n
@@ -233,7 +235,8 @@ def analytic_criteria(batch, surface, tools, genes: dict, *, allowance: float,
     crit["undercut_max"] = np.where(sharp, crit["scallop_max"], 0.0)
     crit |= plan_lengths(batch)
     crit["path_length"] = crit["cutting_length"] + crit["link_length"] + crit["interzone_length"]
-    crit["machining_time"] = crit["path_length"] / float(feed_rate)
+    crit["machining_time_nominal"] = crit["path_length"] / float(feed_rate)
+    crit["machining_time"] = kinematic_time(batch, tools, ti, dynamics)
     crit["eq4_total"] = eq4_total(crit["cutting_length"], crit["zones"], delta_l)
     crit["length_on_part_mm"] = np.bincount(seg_ind, batch.seg_len[chords], n)
     crit["length_papers_mm"] = eq4_total(crit["length_on_part_mm"], crit["zones"], delta_l)

@@ -29,7 +29,7 @@ def test_plane_ball_end_scallop_chord_length_and_time():
     assert c["cc_count"][0] == 21 * (np.ceil(100 / 7.0) + 1)
     assert c["cutting_length"][0] == pytest.approx(21 * 100.0)
     assert c["link_length"][0] == pytest.approx(60.0)
-    assert c["machining_time"][0] == pytest.approx(2160.0 / 1000.0)
+    assert c["machining_time_nominal"][0] == pytest.approx(2160.0 / 1000.0)
 
 
 def test_slope_across_the_feed_widens_the_surface_spacing():

@@ -1,0 +1,261 @@
+"""Machining time as the machine runs it: a jerk-limited (S-curve) feed profile per move.
+
+The path is a chain of straight moves (a G1 block per move). The control's path speed v
+obeys |dv/dt| <= A (acceleration) and |d2v/dt2| <= J (jerk); every speed change follows the
+symmetric S-curve (acceleration ramps up at J, holds at A if it gets there, ramps down at
+J): a jerk-limited 7-segment S-curve, not a trapezoid. The control looks ahead: moves
+between two "knots" (vertices whose corner limits the speed below the feed, feed changes,
+chain ends) are one S-curve stretch; the acceleration is zero at the knots. The limits are applied to the path speed, so
+no axis exceeds them (each axis' share is at most the path's).
+
+A speed change dv (Herraz et al. evaluate time with these limits; the closed forms are the
+standard jerk-limited profile):
+
+    T(dv) = dv / A + A / J        if dv >= A^2 / J        (the acceleration reaches A)
+          = 2 sqrt(dv / J)        otherwise
+    D(v0, v1) = (v0 + v1) / 2 * T(|v1 - v0|)               (symmetric profile: mean speed)
+
+Speed at a vertex: at most the feeds of both moves and the corner speed of the direction
+change theta between them, from the junction-deviation rule (the control rounds the corner
+by an arc that deviates ``corner_tolerance`` delta from the vertex, at centripetal
+acceleration A):
+
+    v_c^2 = A delta s / (1 - s),  s = sin(theta_turn / 2) with cos(theta_turn) = -u_in . u_out
+
+so a straight continuation has no limit and a reversal stops (v_c = 0). The chain starts
+and ends at rest. A forward and a backward pass bring every vertex speed down to what the
+neighbouring moves can reach within their lengths (D <= L); each move then accelerates to
+its feed (or to the highest peak it has room for), cruises and decelerates. Rapids run the
+same model at the rapid rate, plunges at the plunge feed.
+
+Closed forms the tests use: a straight line of length L >= F T(F) from rest to rest takes
+L / F + T(F); every full stop on the way (a reversal) adds T(F); A, J -> infinity gives L / F.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numba import njit
+
+__all__ = ["Dynamics", "parse_dynamics", "chain_time", "plan_times", "kinematic_time"]
+
+
+@dataclass(frozen=True)
+class Dynamics:
+    """The machine's limits: ``accel`` m/s^2, ``jerk`` m/s^3, ``feed`` mm/min (used when a
+    tool has none), ``rapid`` mm/min, ``corner_tolerance`` mm (junction deviation).
+    Defaults: Herraz et al.'s jerk 40 m/s^3, acceleration 6 m/s^2, feed 5 m/min."""
+
+    accel: float = 6.0
+    jerk: float = 40.0
+    feed: float = 5000.0
+    rapid: float = 10000.0
+    corner_tolerance: float = 0.01
+
+    @property
+    def a_mm(self) -> float:
+        return self.accel * 1000.0
+
+    @property
+    def j_mm(self) -> float:
+        return self.jerk * 1000.0
+
+
+def parse_dynamics(spec=None, key: str = "dynamics") -> Dynamics:
+    """A :class:`Dynamics` from plain data; one-line ValueError ``dynamics.accel: ...``."""
+    if spec is None:
+        return Dynamics()
+    if not isinstance(spec, dict):
+        raise ValueError(f"{key}: expected a mapping, got {spec!r}")
+    known = Dynamics.__dataclass_fields__
+    unknown = sorted(set(spec) - set(known))
+    if unknown:
+        raise ValueError(f"{key}.{unknown[0]}: unknown (known: {', '.join(known)})")
+    out = {}
+    for k, v in spec.items():
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) and v != math.inf:
+            raise ValueError(f"{key}.{k}: expected a number, got {v!r}")
+        if not v > 0:
+            raise ValueError(f"{key}.{k}: must be > 0, got {v!r}")
+        out[k] = float(v)
+    return Dynamics(**out)
+
+
+@njit(cache=True)
+def _t(dv, a, j):
+    """S-curve time of a speed change dv >= 0."""
+    if dv <= 0.0:
+        return 0.0
+    if dv >= a * a / j:
+        return dv / a + a / j
+    return 2.0 * math.sqrt(dv / j)
+
+
+@njit(cache=True)
+def _d(v0, v1, a, j):
+    """Distance of the S-curve from v0 to v1."""
+    return 0.5 * (v0 + v1) * _t(abs(v1 - v0), a, j)
+
+
+@njit(cache=True)
+def _reach(v0, length, vmax, a, j):
+    """The highest speed <= vmax reachable from v0 over ``length`` (speeding up)."""
+    if _d(v0, vmax, a, j) <= length:
+        return vmax
+    lo, hi = v0, vmax
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        if _d(v0, mid, a, j) <= length:
+            lo = mid
+        else:
+            hi = mid
+    return lo
+
+
+@njit(cache=True)
+def _move_time(v0, v1, length, f, a, j):
+    """Time of one move: v0 -> peak (<= f) -> v1 over ``length``."""
+    if length <= 0.0:
+        return 0.0
+    d0, d1 = _d(v0, f, a, j), _d(f, v1, a, j)
+    if d0 + d1 <= length:
+        return _t(f - v0, a, j) + _t(f - v1, a, j) + (length - d0 - d1) / f
+    lo, hi = max(v0, v1), f
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        if _d(v0, mid, a, j) + _d(mid, v1, a, j) <= length:
+            lo = mid
+        else:
+            hi = mid
+    vp = lo
+    used = _d(v0, vp, a, j) + _d(vp, v1, a, j)
+    return _t(vp - v0, a, j) + _t(vp - v1, a, j) + max(length - used, 0.0) / max(vp, 1e-12)
+
+
+@njit(cache=True)
+def _chains(pts, feed, start, a, j, delta, out):
+    """Time (s) of the stretch of moves ending at each knot into out[knot] (0 elsewhere); a
+    chain starts where ``start`` is True; feed[i] mm/s of move i-1 -> i."""
+    n = len(pts)
+    length = np.zeros(n)
+    unit = np.zeros((n, 3))
+    for i in range(1, n):
+        if start[i]:
+            continue
+        d = pts[i] - pts[i - 1]
+        ln = math.sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2])
+        length[i] = ln
+        if ln > 0.0:
+            unit[i] = d / ln
+        else:
+            unit[i] = unit[i - 1]
+    vmax = np.zeros(n)
+    for i in range(n):
+        end = i == n - 1 or start[i + 1]
+        if start[i] or end:
+            vmax[i] = 0.0
+            continue
+        v = min(feed[i], feed[i + 1])
+        c = -(unit[i, 0] * unit[i + 1, 0] + unit[i, 1] * unit[i + 1, 1] + unit[i, 2] * unit[i + 1, 2])
+        s = math.sqrt(max(0.5 * (1.0 - c), 0.0))  # sin(theta / 2): 1 straight on, 0 a reversal
+        if s < 1.0 - 1e-12:
+            v = min(v, math.sqrt(a * delta * s / (1.0 - s)))
+        vmax[i] = v
+    # a vertex that limits the speed (or changes the feed, or starts/ends a chain) is a knot;
+    # between knots the moves are one S-curve (the look-ahead carries the acceleration on)
+    knot = np.zeros(n, np.bool_)
+    for i in range(n):
+        if start[i] or i == n - 1 or start[i + 1] or feed[i] != feed[i + 1] or vmax[i] < feed[i] * (1 - 1e-12):
+            knot[i] = True
+    ks = np.flatnonzero(knot)
+    m = len(ks)
+    seg_len = np.zeros(m)
+    seg_feed = np.zeros(m)
+    for q in range(1, m):
+        acc = 0.0
+        for i in range(ks[q - 1] + 1, ks[q] + 1):
+            acc += length[i]
+        seg_len[q] = acc
+        seg_feed[q] = feed[ks[q]]
+    vel = np.zeros(m)
+    for q in range(m):
+        vel[q] = vmax[ks[q]]
+    for q in range(1, m):  # forward: what the stretch into knot q can reach
+        if not _starts(start, ks[q - 1], ks[q]):
+            vel[q] = min(vel[q], _reach(vel[q - 1], seg_len[q], seg_feed[q], a, j))
+    for q in range(m - 2, -1, -1):  # backward: what the stretch out of knot q can brake from
+        if not _starts(start, ks[q], ks[q + 1]):
+            vel[q] = min(vel[q], _reach(vel[q + 1], seg_len[q + 1], seg_feed[q + 1], a, j))
+    for q in range(1, m):
+        if not _starts(start, ks[q - 1], ks[q]):
+            out[ks[q]] = _move_time(vel[q - 1], vel[q], seg_len[q], seg_feed[q], a, j)
+
+
+@njit(cache=True)
+def _starts(start, k0, k1):
+    """True if a chain starts after k0 up to k1 (the knots are in different chains)."""
+    for i in range(k0 + 1, k1 + 1):
+        if start[i]:
+            return True
+    return False
+
+
+def chain_time(points, feed_mm_min, dyn: Dynamics, start=None) -> np.ndarray:
+    """Time in seconds (m,) of the chain(s) of ``points`` (m, 3), each stretch between speed
+    knots booked at its last point (the sum over a chain is its time); ``feed_mm_min`` a
+    scalar or (m,) feed of the move into each point; ``start`` (m,) True where a chain
+    starts at rest (default: only the first point); every chain ends at rest."""
+    pts = np.ascontiguousarray(points, float).reshape(-1, 3)
+    m = len(pts)
+    feed = np.broadcast_to(np.asarray(feed_mm_min, float) / 60.0, (m,)).copy()
+    st = np.zeros(m, bool) if start is None else np.asarray(start, bool).copy()
+    if m:
+        st[0] = True
+    out = np.zeros(m)
+    if m:
+        _chains(pts, feed, st, dyn.a_mm, dyn.j_mm, dyn.corner_tolerance, out)
+    return out
+
+
+def plan_times(batch, dyn: Dynamics, feed_mm_min) -> np.ndarray:
+    """Kinematic machining time (min) per plan (n,) of a ``PlanBatch``: each plan's sections
+    in machining order joined by their link moves at the feed into one chain per zone
+    (the tool does not stop between sections of a zone unless a corner makes it); a zone
+    change is a stop, a straight rapid at ``dyn.rapid`` and a stop. ``feed_mm_min`` per plan
+    (n,) (the plan's tool feed)."""
+    n = batch.n
+    if n == 0:
+        return np.zeros(0)
+    p = np.asarray(batch.p, float)
+    pt_sec = np.asarray(batch.pt_sec)
+    sec_ind = np.asarray(batch.sec_ind)
+    sec_zone = np.asarray(batch.sec_zone)
+    pt_ind = sec_ind[pt_sec]
+    # a chain starts at a plan's first point or where the zone changes
+    zone_pt = sec_zone[pt_sec]
+    new_chain = np.r_[True, (pt_ind[1:] != pt_ind[:-1]) | (zone_pt[1:] != zone_pt[:-1])]
+    feed = np.asarray(feed_mm_min, float).reshape(-1)[pt_ind] if np.ndim(feed_mm_min) else \
+        np.full(len(p), float(feed_mm_min))
+    t = chain_time(p, feed, dyn, start=new_chain)
+    total = np.bincount(pt_ind, t, n)
+    # rapids between zones: from rest to rest at the rapid rate
+    hop = np.flatnonzero(new_chain[1:] & (pt_ind[1:] == pt_ind[:-1])) + 1
+    if len(hop):
+        pair = np.empty((2 * len(hop), 3))
+        pair[0::2], pair[1::2] = p[hop - 1], p[hop]
+        st = np.zeros(2 * len(hop), bool)
+        st[0::2] = True
+        tr = chain_time(pair, dyn.rapid, dyn, start=st)[1::2]
+        total += np.bincount(pt_ind[hop], tr, n)
+    return total / 60.0
+
+
+def kinematic_time(batch, tools, tool_index, dynamics=None) -> np.ndarray:
+    """``machining_time`` (min) per plan: :func:`plan_times` at each plan's tool feed (the
+    tool library's ``feed``, else ``dynamics.feed``)."""
+    dyn = dynamics or Dynamics()
+    feeds = np.array([getattr(t, "feed", None) or dyn.feed for t in tools.tools], float)
+    return plan_times(batch, dyn, feeds[np.asarray(tool_index, int)] if batch.n else np.zeros(0))

@@ -1,0 +1,112 @@
+"""Kinematic machining time: the S-curve feed profile against its closed forms."""
+
+import math
+
+import numpy as np
+import pytest
+
+from evoplan.problems.toolpath.criteria.kinematic_time import Dynamics, chain_time, parse_dynamics
+
+DYN = Dynamics()                  # jerk 40 m/s^3, accel 6 m/s^2, feed 5 m/min
+F = 5000.0 / 60.0                 # mm/s
+A, J = 6000.0, 40000.0
+
+
+def t_change(dv):
+    """Closed form of the S-curve speed change (A^2 / J = 900 mm/s > F: jerk-limited)."""
+    return dv / A + A / J if dv >= A * A / J else 2 * math.sqrt(dv / J)
+
+
+def test_straight_line_is_its_closed_form():
+    for length in (50.0, 300.0):
+        pts = np.array([[0, 0, 0], [length, 0, 0.0]])
+        got = chain_time(pts, 5000.0, DYN).sum()
+        assert got == pytest.approx(length / F + t_change(F), rel=1e-9)
+    # too short to reach the feed: peak v with 2 D(0, v) = L, i.e. v = (L^2 J / 4)^(1/3) ...
+    length = 0.5
+    vp = (length / 2) ** (2 / 3) * J ** (1 / 3)          # D(0, v) = v sqrt(v / J) = L / 2
+    assert vp < F
+    got = chain_time(np.array([[0, 0, 0], [length, 0, 0.0]]), 5000.0, DYN).sum()
+    assert got == pytest.approx(2 * t_change(vp), rel=1e-6)
+    # the acceleration-limited regime (A^2 / J below F)
+    slow = Dynamics(accel=0.5, jerk=40.0)
+    a = 500.0
+    got = chain_time(np.array([[0, 0, 0], [300.0, 0, 0]]), 5000.0, slow).sum()
+    assert got == pytest.approx(300 / F + F / a + a / J, rel=1e-9)
+
+
+@pytest.mark.parametrize("n", [1, 2, 5, 9])
+def test_zigzag_of_n_passes_costs_n_reversals(n):
+    # n passes of 120 mm back and forth along X: every reversal is a full stop
+    xs = [0.0, 120.0] * ((n + 2) // 2)
+    pts = np.array([[x, 0.0, 0.0] for x in xs[:n + 1]])
+    got = chain_time(pts, 5000.0, DYN).sum()
+    penalty = t_change(F)                                   # decelerate + accelerate - the cruise
+    assert got == pytest.approx(n * 120.0 / F + n * penalty, rel=1e-9)
+
+
+def test_infinite_acceleration_is_length_over_feed():
+    rng = np.random.default_rng(2)
+    pts = np.cumsum(rng.normal(size=(200, 3)), axis=0)
+    length = np.linalg.norm(np.diff(pts, axis=0), axis=1).sum()
+    fast = Dynamics(accel=1e12, jerk=1e15)
+    assert chain_time(pts, 5000.0, fast).sum() == pytest.approx(length / F, rel=1e-6)
+    # with the real limits the same path takes longer: its corners slow it down
+    assert chain_time(pts, 5000.0, DYN).sum() > 1.2 * length / F
+
+
+def test_gentle_points_cost_nothing_and_sharp_corners_slow_down():
+    t = np.linspace(0, np.pi, 400)
+    arc = np.column_stack([20 * np.cos(t), 20 * np.sin(t), 0 * t])
+    length = np.linalg.norm(np.diff(arc, axis=0), axis=1).sum()
+    # 399 blocks whose corners (0.45 deg) never limit the speed: one S-curve, the line's closed form
+    assert chain_time(arc, 5000.0, DYN).sum() == pytest.approx(length / F + t_change(F), rel=1e-9)
+    # a square's 90 degree corners: v_c^2 = A delta s / (1 - s), s = sin 45 deg
+    s = math.sin(math.pi / 4)
+    vc = math.sqrt(A * 0.01 * s / (1 - s))
+    square = np.array([[0, 0, 0], [40, 0, 0], [40, 40, 0], [0, 40, 0.0]])
+    got = chain_time(square, 5000.0, DYN).sum()
+    # each corner: decelerate F -> vc and accelerate back; the time lost vs cruising is
+    # 2 (T - D / F) with T = T(F - vc), D = (F + vc) / 2 T
+    T = t_change(F - vc)
+    lost = 2 * (T - (F + vc) / 2 * T / F)
+    assert got == pytest.approx(120 / F + t_change(F) + 2 * lost, rel=1e-9)
+
+
+@pytest.mark.parametrize("key,value", [("accel", 0), ("jerk", -1), ("feed", "fast")])
+def test_bad_limits_name_their_key(key, value):
+    with pytest.raises(ValueError, match=f"^dynamics.{key}: "):
+        parse_dynamics({key: value})
+
+
+def test_the_criterion_on_plans_limits_to_the_nominal_and_is_weightable():
+    from evoplan.problems.toolpath import ToolpathProblem
+    from evoplan.problems.toolpath.criteria.table import check_name
+
+    assert check_name("machining_time", "weights", weightable=True) == "machining_time"
+    assert check_name("machining_time_nominal", "weights", weightable=True) == "machining_time_nominal"
+    kw = dict(weights={"cc_count": 1.0}, normalization={"cc_count": [0, 1]}, feed_rate=1000.0)
+    ideal = ToolpathProblem(dynamics={"accel": 1e12, "jerk": 1e15, "feed": 1000.0}, **kw)
+    real = ToolpathProblem(**kw)
+    X = ideal.genes.design(6, 3)
+    a, b = ideal.criteria(X), real.criteria(X)
+    np.testing.assert_allclose(a["machining_time"], a["machining_time_nominal"], rtol=1e-6)
+    # the real limits at 5 m/min: slower than path / 5000 (corners, starts, stops), faster than path / 1000
+    assert np.all(b["machining_time"] > b["path_length"] / 5000.0)
+    assert np.all(b["machining_time"] < b["machining_time_nominal"])
+
+
+def test_a_tool_library_feed_drives_the_time_and_an_entry_without_one_is_refused():
+    from evoplan.problems.toolpath import ToolpathProblem
+    from evoplan.problems.toolpath.tools import DEFAULT_TOOLS
+
+    tools = [dict(t) for t in DEFAULT_TOOLS]
+    kw = dict(weights={"cc_count": 1.0}, normalization={"cc_count": [0, 1]},
+              dynamics={"accel": 1e12, "jerk": 1e15})
+    slow = ToolpathProblem(tools=[{**t, "feed": 2500.0, "spindle": 8000} for t in tools], **kw)
+    X = slow.genes.design(3, 1)
+    c = slow.criteria(X)
+    np.testing.assert_allclose(c["machining_time"], c["path_length"] / 2500.0, rtol=1e-6)
+    tools[2]["spindle"] = 9000
+    with pytest.raises(ValueError, match=r"^tools\[2\]\.feed: missing"):
+        ToolpathProblem(tools=tools, **kw)
