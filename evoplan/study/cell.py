@@ -19,8 +19,14 @@ evaluation granularity, the IOHprofiler export).
 from __future__ import annotations
 
 import json
+import pickle
 import random
+import subprocess
+import sys
+import tempfile
+import threading
 import time
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -61,7 +67,31 @@ def build(run_settings: dict[str, Any]) -> tuple[Prepared, RunState, Any]:
 
 def run_cell(cell: Cell) -> tuple[dict[str, Any], list[tuple], list[tuple[int, float]]]:
     """Run ``cell``; returns its record (one row of ``runs.csv``), its history rows and its
-    improvement trace ``[(evaluation, new best value), ...]``."""
+    improvement trace ``[(evaluation, new best value), ...]``.
+
+    With ``timeout_s`` outside a main thread (a Dask worker's thread, where no timer can stop
+    an evaluation) the cell runs in a child process of its own, whose main thread can."""
+    if cell.timeout_s is not None and threading.current_thread() is not threading.main_thread():
+        return _in_child(cell)
+    return _run_cell(cell)
+
+
+def _in_child(cell: Cell):
+    """``run_cell(cell)`` in a new Python process (``python -m evoplan.study.cell IN OUT``)."""
+    with tempfile.TemporaryDirectory(prefix="evoplan-cell-") as tmp:
+        src, dst = Path(tmp) / "cell.pickle", Path(tmp) / "result.pickle"
+        src.write_bytes(pickle.dumps(cell, protocol=pickle.HIGHEST_PROTOCOL))
+        proc = subprocess.run([sys.executable, "-m", "evoplan.study.cell", str(src), str(dst)],
+                              stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+        if proc.returncode == 0 and dst.is_file():
+            return pickle.loads(dst.read_bytes())  # written by our own child, from our own input
+    last = (proc.stderr.decode(errors="replace").strip().splitlines() or [""])[-1][:300]
+    record = {"key": cell.key, **cell.labels(), "budget": cell.budget, "status": "failed",
+              "error": f"the process running this cell died (exit code {proc.returncode}) {last}".strip()}
+    return record, [], []
+
+
+def _run_cell(cell: Cell) -> tuple[dict[str, Any], list[tuple], list[tuple[int, float]]]:
     random.seed(cell.seed)  # libraries that draw from global generators (cma) start the same
     np.random.seed(cell.seed)
     t0 = time.perf_counter()
@@ -99,3 +129,8 @@ def _finite(x: float) -> float | None:
 
 def _plain(x):
     return x.item() if isinstance(x, np.generic) else x
+
+
+if __name__ == "__main__":  # a cell in a child process (see _in_child)
+    _cell = pickle.loads(Path(sys.argv[1]).read_bytes())
+    Path(sys.argv[2]).write_bytes(pickle.dumps(_run_cell(_cell), protocol=pickle.HIGHEST_PROTOCOL))

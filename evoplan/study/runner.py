@@ -20,7 +20,7 @@ from typing import Any
 
 from tqdm import tqdm
 
-from ..errors import ConfigError, EvoplanError
+from ..errors import EvoplanError
 from ..parallel import open_pool
 from .analysis import analyze
 from .cell import run_cell
@@ -107,9 +107,6 @@ def run_study(study: StudyConfig, source: str, out: str | Path, backend: str = "
     stored = {c.key: r for c in cells if (r := folder.load(c)) is not None}
     todo = [c for c in cells if c.key not in stored]
     t_open = time.perf_counter()
-    if study.evaluation.timeout_s is not None and backend == "dask":
-        raise ConfigError(f"{source}: evaluation.timeout_s: a study on --backend dask cannot stop an evaluation "
-                          "(a Dask worker runs it in a thread): use --backend processes or serial")
     pool = open_pool(backend, workers, scheduler) if todo else None
     t0 = time.perf_counter()
     created = not Path(out).exists()

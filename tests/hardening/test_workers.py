@@ -138,11 +138,12 @@ def test_a_study_cell_whose_worker_dies_fails_alone_and_reproducibly(tmp_path):
                                   check_dtype=False)
 
 
-def test_a_study_bounds_a_hanging_evaluation_with_timeout_s(tmp_path):
+@pytest.mark.parametrize("backend", ["processes", "dask"])
+def test_a_study_bounds_a_hanging_evaluation_with_timeout_s(tmp_path, backend):
     ref = _study(tmp_path, "Fails", "ref")
     assert evoplan("study", ref, "--out", tmp_path / "ref").returncode == 0
     cfg = _study(tmp_path, "Hangs", "hangs", "evaluation: {timeout_s: 0.3}\n")
-    proc = evoplan("study", cfg, "--out", tmp_path / "hangs", "--backend", "processes", "--workers", 2)
+    proc = evoplan("study", cfg, "--out", tmp_path / "hangs", "--backend", backend, "--workers", 2)
     assert proc.returncode == 0 and "Traceback" not in proc.stderr, proc.stderr
     got, expected = _runs(tmp_path / "hangs"), _runs(tmp_path / "ref")
     assert (got.status == "ok").all() and got.failures.sum() > 0
