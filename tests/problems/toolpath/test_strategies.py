@@ -192,3 +192,60 @@ def test_categorical_strategy_gene_decodes_to_every_strategy_and_stays_fixed_whe
         _problem(strategy=names, fixed={"strategy": "spiral"})
     with pytest.raises(ValueError, match=r"^strategy\[1\]: unknown strategy 'spiral'"):
         _problem(strategy=["parallel", "spiral"])
+
+
+class _Cylinder:
+    """z = sqrt(rho^2 - y^2) over x in [0, 40], y in [-a, a] (u along x, v along y): a
+    convex cylinder whose axis is the x axis."""
+
+    normal_sign = 1.0
+
+    def __init__(self, rho=20.0, a=12.0, length=40.0):
+        self.rho, self.a, self.length = rho, a, length
+
+    def jet(self, u, v, order=2):
+        from evoplan.problems.toolpath.geometry.surface import Jet
+
+        u, v = np.asarray(u, float), np.asarray(v, float)
+        y = self.a * (2 * v - 1)
+        z = np.sqrt(self.rho ** 2 - y ** 2)
+        zy, zyy = -y / z, -self.rho ** 2 / z ** 3
+        p = np.column_stack([self.length * u, y, z])
+        zero = np.zeros_like(u)
+        su = np.column_stack([self.length + zero, zero, zero])
+        sv = np.column_stack([zero, 2 * self.a + zero, 2 * self.a * zy])
+        if order < 2:
+            return Jet(p, su, sv)
+        zz = np.zeros((len(u), 3))
+        svv = np.column_stack([zero, zero, (2 * self.a) ** 2 * zyy])
+        return Jet(p, su, sv, zz, zz.copy(), svv)
+
+
+def test_isoscallop_on_a_cylinder_spaces_a_ball_by_the_circle_intersection_closed_form():
+    from scipy.optimize import brentq
+
+    cyl, tools = _Cylinder(), parse_tools(BALL)
+    pl = Planner(cyl, tools, machine="3axis", spacing="scallop", h_c=H_C, feed_angle=0.0,
+                 strategy="isoscallop")
+    batch = pl.plan(_genes(step=2.0), place=False)
+    R, rho = 3.175, cyl.rho
+    passes = _pass_offsets(batch)
+    theta = np.array([np.arctan2(y.mean(), np.sqrt(rho ** 2 - y.mean() ** 2)) for y in passes])
+    for y in passes:  # passes along the axis: every point of a pass at one angle
+        assert np.ptp(y) < 1e-6
+
+    def cusp(t):  # two balls tangent to the cylinder t apart: cusp height over the surface
+        c = rho + R
+        return c * np.cos(t / 2) - np.sqrt(R ** 2 - (c * np.sin(t / 2)) ** 2) - rho - H_C
+
+    exact = brentq(cusp, 1e-6, 0.2)  # the angle between passes that leaves exactly h_c
+    inner = np.sort(theta)[1:-1]  # the edge passes are clipped / on the border
+    gaps = np.diff(inner)
+    assert len(gaps) > 5
+    # the width model (the vertical cutter's swept profile with the curvature across the
+    # feed to first order, shared with the parallel planes) spaces these passes 1.0-2.6 %
+    # wider than the exact circles (ratio growing with the slope, rho 20 mm): a cusp up to
+    # ~5 % over h_c on this cylinder. Held here to 3 %; closing the gap is open work.
+    ratio = gaps / exact
+    assert np.all(ratio > 1.0) and np.all(ratio < 1.03), ratio
+    assert np.allclose(ratio, ratio[::-1], rtol=1e-9)  # symmetric about the crest

@@ -69,11 +69,14 @@ def zone_passes(planner, layout, z, cutter, h_c, lead_tilt=None, offset=None, ds
     master = resample(planner.surface, extend_to_edge(
         _master(planner, layout, z, offset, ds, key)), ds)
     plus = _propagate(planner, layout, z, cutter, h_c, lead_tilt, master, +1.0, ds, max_passes)
-    if offset is not None:
-        return plus
-    minus = _propagate(planner, layout, z, cutter, h_c, lead_tilt, master, -1.0, ds,
-                       max_passes)[1:]
-    return minus[::-1] + plus
+    passes = plus
+    if offset is None:
+        passes = _propagate(planner, layout, z, cutter, h_c, lead_tilt, master, -1.0, ds,
+                            max_passes)[1:][::-1] + plus
+    for k, pieces in enumerate(passes):  # passes numbered across the zone in cutting order
+        for pc in pieces:
+            pc.pass_k = k
+    return passes
 
 
 def _propagate(planner, layout, z, cutter, h_c, lead_tilt, master, sign, ds, max_passes,
