@@ -32,7 +32,8 @@ from typing import Any
 import numpy as np
 
 from ..config import parse_config
-from ..engine import RunState, run
+from ..engine import HISTORY_COLUMNS, RunState, run
+from ..multiobjective import connect
 from ..runner import Prepared, history_frame, prepare
 from . import shared
 from .grid import Cell
@@ -62,7 +63,9 @@ def build(run_settings: dict[str, Any]) -> tuple[Prepared, RunState, Any]:
     config = parse_config(run_settings, run_settings["name"])
     problem = shared.problem_for(config.problem.name, config.problem.params)  # built once a worker
     prepared = prepare(config, run_settings["name"], problem=problem)
-    return prepared, prepared.new_state(), prepared.search
+    state = prepared.new_state()
+    connect(prepared.evaluator, state.algorithm, prepared.search.decode)  # multi-objective: the vectors
+    return prepared, state, prepared.search
 
 
 def run_cell(cell: Cell) -> tuple[dict[str, Any], list[tuple], list[tuple[int, float]]]:
@@ -103,13 +106,17 @@ def _run_cell(cell: Cell) -> tuple[dict[str, Any], list[tuple], list[tuple[int, 
         prepared.evaluator.timeout = cell.timeout_s  # a hanging evaluation fails its rows only
         record["optimum"] = optimum(prepared.evaluator.problem)
         run(state, space, prepared.evaluator, prepared.termination)
-        history = [tuple(map(_plain, row)) for row in history_frame(state).itertuples(index=False)]
+        frame = history_frame(state)[list(HISTORY_COLUMNS)]  # a study's histories: the common columns
+        history = [tuple(map(_plain, row)) for row in frame.itertuples(index=False)]
         trace = list(state.improvements)
         record.update(status="ok", error="", final_best=_finite(best_within(trace, cell.budget)),
                       best_overall=_finite(state.best_f), cache_hits=state.cache_hits,
                       evaluations=state.evaluations, generations=state.algorithm.generation,
                       failures=state.failures, stop_reason=state.stop_reason,
                       failure_messages=" | ".join(state.errors), best_variables=_variables(prepared, state))
+        volumes = getattr(state.algorithm, "hypervolumes", None)
+        if volumes:  # a multi-objective adapter: its archive's hypervolume at the end of the run
+            record["hypervolume"] = float(volumes[-1])
     except Exception as e:  # noqa: BLE001 - a crashed run is a result, not the end of the study
         record.update(status="failed", error=f"{type(e).__name__}: {e}".splitlines()[0][:500])
     record["wall_seconds"] = round(time.perf_counter() - t0, 4)

@@ -111,7 +111,8 @@ class StudyFolder:
 
 RUN_COLUMNS = ["key", "algorithm", "problem", "dimension", "factor", "level", "repetition", "seed", "status",
                "final_best", "best_overall", "optimum", "budget", "evaluations", "cache_hits", "generations", "failures",
-               "stop_reason", "wall_seconds", "error", "failure_messages", "best_variables"]
+               "stop_reason", "wall_seconds", "error", "failure_messages", "best_variables",
+               "hypervolume"]  # a multi-objective run's final hypervolume (empty otherwise)
 
 
 def runs_frame(records: Iterable[dict[str, Any]]) -> pd.DataFrame:
