@@ -21,9 +21,21 @@ Statements with meaning here:
 - ``$$ PASS k`` / ``$$ ZONE z PASS k`` comments open a new section; ``$$ TOOLPOINT TIP|CENTRE``
   (written by ``apt_write``) states what point a ``GOTO`` gives.
 
-Other post words (``PPRINT``, ``INSERT``, ``INTOL``, ``CUTCOM``, ``STOP``, ...) are accepted and
-ignored; any other word, a bad number, a NaN/inf value, a zero axis, or a file without a
-``GOTO`` raises ``AptError`` with one line ``LINE n: what is wrong``.
+- ``CIRCLE/xc,yc,zc,i,j,k,r[,...]`` then ``GOTO/end``: an arc about the axis (i, j, k)
+  (counter-clockwise looking down it, the APT convention) from the last point to the end
+  point, written as points within the chord tolerance (``INTOL``/``OUTTOL``/``TOLER``, or
+  ``chord_tol``: 0.01 mm); the start and end must lie at r from the axis.
+- ``GOHOME``: a rapid back to the ``FROM`` point (listed as ignored without one).
+- ``TLDATA/MILL,d,r[,...]`` (NX) as ``CUTTER/d,r``; ``SELECT/TOOL,n`` and ``LOAD/TOOL,n`` as
+  ``LOADTL/n``; ``SPINDL/RPM,n,CLW`` (Creo) as well as ``SPINDL/n,RPM``.
+- Numbers take Fortran ``D`` exponents (``1.5D+00``).
+
+Every other statement that does not move the tool (``PPRINT``, ``MSYS/`` (the output frame the
+GOTOs are already in), ``PAINT/``, ``INDIRV/``, ``TOOL PATH/``, ``END-OF-PATH``, ``CUTCOM``,
+...) is counted and listed in ``ignored``. A motion statement this reader does not take
+(``GOFWD``, ``GOLFT``, ``GORGT``, ``GOBACK``, ``GOUP``, ``GODOWN``, ``GO``, ``MOVARC``,
+``PSIS``, ``CYCLE/`` other than ``OFF``), a bad number, a NaN/inf value, a zero axis, or a
+file without a ``GOTO`` raises ``AptError`` with one line ``LINE n: what is wrong``.
 """
 
 from __future__ import annotations
@@ -36,15 +48,11 @@ from pathlib import Path
 import numpy as np
 
 INCH = 25.4
-IGNORED = frozenset("""PPRINT INSERT INTOL OUTTOL TOLER CUTCOM STOP OPSTOP END SELCTL TOOLNO CLEARP
-    CLRSRF RETRCT DELAY OPSKIP SEQNO MACHIN MODE ORIGIN TLON TLOFPS TLLFT TLRGT AUTOPS NOPOST
-    PREFUN AUXFUN ROTABL ROTHED DISPLY PITCH THREAD CYCLE HEAD TURRET LINTOL TITLES PLABEL
-    CALSUB CAMERA OPTION PPLOT PRINT PUNCH REWIND SAFETY TRACUT TMARK DRESS LETTER MCHTOL
-    MCHFIN LEADER POSMAP PPFUN ROTATE CHECK COUPLE INDEX TABLE SET RESET ON OFF LOAD UNLOAD
-    OPERATION_NAME TPRINT""".split())
+MOTION = frozenset("GOFWD GOLFT GORGT GOBACK GOUP GODOWN GO MOVARC PSIS DNTCUT".split())
 SECTION = re.compile(r"^(?:ZONE\s+\S+\s+)?PASS\s+\S+", re.I)
 TOOLPOINT = re.compile(r"^TOOLPOINT\s+(TIP|CENTRE|CENTER)\b", re.I)
-STATEMENT = re.compile(r"^\s*([A-Za-z][A-Za-z0-9_]*)\s*(?:/(.*))?$")
+STATEMENT = re.compile(r"^\s*([A-Za-z][A-Za-z0-9_\- ]*?)\s*(?:/(.*))?$")
+FORTRAN = re.compile(r"^([+-]?(?:\d+\.?\d*|\.\d+))[dD]([+-]?\d+)$")
 
 
 class AptError(ValueError):
@@ -74,6 +82,7 @@ class AptToolpath:
     spindle_rpm: float | None = None
     coolant: str | None = None
     start: np.ndarray | None = None   # FROM point
+    ignored: dict | None = None       # statement word -> count of the statements not acted on
 
     def __len__(self) -> int:
         return len(self.tip)
@@ -103,6 +112,7 @@ def _statements(text: str):
 def _numbers(args: list[str], line: int, scale: float = 1.0) -> list[float]:
     out = []
     for a in args:
+        a = FORTRAN.sub(r"\1e\2", a.strip())
         try:
             v = float(a)
         except ValueError:
@@ -120,7 +130,41 @@ class _Reader:
         self.scale, self.cur_axis, self.cur_feed = 1.0, (0.0, 0.0, 1.0), math.nan
         self.next_rapid, self.multax, self.centre = False, False, False
         self.cutter: tuple[float, float] | None = None
-        self.info: dict = {"part": "", "tool_number": None, "spindle_rpm": None, "coolant": None, "start": None}
+        self.info: dict = {"part": "", "tool_number": None, "spindle_rpm": None, "coolant": None, "start": None,
+                           "ignored": {}}
+        self.circle: tuple | None = None
+        self.chord_tol = 0.01
+
+    def ignore(self, word: str) -> None:
+        self.info["ignored"][word] = self.info["ignored"].get(word, 0) + 1
+
+    def arc(self, line: int, end: list[float]) -> None:
+        """The points of the pending CIRCLE's arc from the last point to ``end`` (excluded)."""
+        (c, ax, r), self.circle = self.circle, None
+        if not self.tip:
+            raise AptError(line, "CIRCLE before any GOTO")
+        c, ax = np.asarray(c), np.asarray(ax)
+        p0, p1 = np.asarray(self.tip[-1]), np.asarray(end)
+        w0, w1 = p0 - c - np.dot(p0 - c, ax) * ax, p1 - c - np.dot(p1 - c, ax) * ax
+        tol = max(self.chord_tol, 1e-3 * r)
+        for w in (w0, w1):
+            if abs(np.linalg.norm(w) - r) > max(10 * tol, 1e-3):
+                raise AptError(line, f"CIRCLE: the arc's end is {np.linalg.norm(w):.4f} from the axis, not r = {r:g}")
+        e0 = w0 / np.linalg.norm(w0)
+        e1 = np.cross(ax, e0)
+        total = math.atan2(np.dot(w1, e1), np.dot(w1, e0)) % (2 * math.pi)
+        if total < 1e-9:
+            total = 2 * math.pi if np.linalg.norm(p1 - p0) < 1e-9 else total
+        dz0, dz1 = np.dot(p0 - c, ax), np.dot(p1 - c, ax)
+        step = 2 * math.acos(max(-1.0, 1 - self.chord_tol / r)) if self.chord_tol < r else math.pi / 2
+        k = max(1, int(math.ceil(total / step - 1e-12)))
+        rapid = self.next_rapid
+        for i in range(1, k):
+            t = i / k
+            a = t * total
+            q = c + r * (math.cos(a) * e0 + math.sin(a) * e1) + (dz0 + t * (dz1 - dz0)) * ax
+            self.point(line, list(q), None)
+            self.next_rapid = rapid
 
     def comment(self, text: str) -> None:
         if SECTION.match(text):
@@ -152,7 +196,45 @@ class _Reader:
                 raise AptError(line, f"GOTO needs 3 or 6 values, got {n}")
             v = _numbers(args, line)
             self.multax |= n == 6
-            self.point(line, [c * self.scale for c in v[:3]], v[3:] if n == 6 else None)
+            xyz = [c * self.scale for c in v[:3]]
+            if self.circle is not None:
+                self.arc(line, xyz)
+            self.point(line, xyz, v[3:] if n == 6 else None)
+        elif word == "CIRCLE":
+            if n < 7:
+                raise AptError(line, f"CIRCLE needs at least 7 values (centre, axis, radius), got {n}")
+            v = _numbers(args[:7], line)
+            ax = np.asarray(self.axis_of(line, v[3:6]))
+            if v[6] <= 0:
+                raise AptError(line, "CIRCLE radius must be > 0")
+            self.circle = ([x * self.scale for x in v[:3]], ax, v[6] * self.scale)
+        elif word in ("INTOL", "OUTTOL", "TOLER"):
+            vals = [abs(x) for x in _numbers([a for a in args if not a.strip().isalpha()], line, self.scale)]
+            if vals and max(vals) > 0:
+                self.chord_tol = max(vals)
+            self.ignore(word)
+        elif word == "GOHOME":
+            if self.info["start"] is None:
+                self.ignore(word)
+            else:
+                self.next_rapid = True
+                self.point(line, list(self.info["start"]), None)
+        elif word == "TLDATA":
+            kind = args[0].upper() if args else ""
+            vals = [a for a in args[1:]]
+            if kind != "MILL" or len(vals) < 2:
+                raise AptError(line, "TLDATA: expected TLDATA/MILL,diameter,corner radius[,...]")
+            d, r = _numbers(vals[:2], line, self.scale)
+            if d <= 0 or not 0 <= r <= d / 2:
+                raise AptError(line, "TLDATA needs d > 0 and 0 <= r <= d/2")
+            self.cutter = (d, r)
+        elif word in ("SELECT", "LOAD") and args and args[0].upper() == "TOOL":
+            nums = [a for a in args[1:] if not a.strip().isalpha()]
+            self.info["tool_number"] = int(_numbers(nums[:1], line)[0]) if nums else None
+        elif word in MOTION:
+            raise AptError(line, f"motion statement {word} is not supported (GOTO, GODLTA, CIRCLE, RAPID, GOHOME are)")
+        elif word == "CYCLE" and not (args and args[0].upper() == "OFF"):
+            raise AptError(line, "CYCLE/ (a canned cycle moves the tool) is not supported")
         elif word == "GODLTA":
             if not self.tip:
                 raise AptError(line, "GODLTA before any GOTO")
@@ -194,14 +276,15 @@ class _Reader:
         elif word == "LOADTL":
             self.info["tool_number"] = int(_numbers(args[:1], line)[0]) if args else None
         elif word == "SPINDL":
-            if args and args[0].upper() not in ("OFF", "ON", "LOCK", "ORIENT"):
-                self.info["spindle_rpm"] = _numbers(args[:1], line)[0]
+            nums = [a for a in args if not a.strip().isalpha()]
+            if nums and not (args and args[0].upper() in ("OFF", "LOCK", "ORIENT")):
+                self.info["spindle_rpm"] = _numbers(nums[:1], line)[0]
         elif word == "COOLNT":
             self.info["coolant"] = args[0].upper() if args else "ON"
         elif word == "FINI":
             return False
-        elif word not in IGNORED:
-            raise AptError(line, f"unknown statement {word}")
+        else:
+            self.ignore(word)
         return True
 
     def fedrat(self, line: int, args: list[str]) -> None:

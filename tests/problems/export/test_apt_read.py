@@ -69,7 +69,10 @@ GOTO/this is never read
 
 BAD = {
     "garbage": ("CUTTER/6\nGOTO/1,2,3\nhello world!\n", 3, "not an APT statement"),
-    "unknown word": ("CUTTER/6\nFROBNICATE/1\n", 2, "unknown statement FROBNICATE"),
+    "unknown motion": ("CUTTER/6\nGOTO/0,0,0\nGOFWD/(CIRCLE/0,0,0,5),TANTO,L1\n", 3,
+                       "motion statement GOFWD is not supported"),
+    "canned cycle": ("CUTTER/6\nCYCLE/DRILL,5,100,MMPM\n", 2, "CYCLE/"),
+    "arc off its circle": ("CUTTER/6\nGOTO/10,0,0\nCIRCLE/0,0,0,0,0,1,10\nGOTO/0,7,0\n", 4, "from the axis"),
     "nan": ("CUTTER/6\nGOTO/1,nan,3\n", 2, "non-finite"),
     "inf in continuation": ("CUTTER/6\nGOTO/1,$\n2,inf\n", 2, "non-finite"),
     "no cutter": ("RAPID\nGOTO/0,0,10\nGOTO/0,0,0\n", 3, "before any CUTTER"),
@@ -106,3 +109,69 @@ def test_centre_programmed_paths_say_so(tmp_path):
     assert tp.tip_is_centre and tp.feed[1] == 450          # default plunge feed: half the feed
     (tmp_path / "c.apt").write_text(text.replace("$$ TOOLPOINT CENTRE\n", ""))
     assert not read_apt(tmp_path / "c.apt").tip_is_centre
+
+
+NX = """TOOL PATH/ZLEVEL_PROFILE,TOOL,MILL_D10R1
+TLDATA/MILL,10.0000,1.0000,75.0000,0.0000,0.0000
+MSYS/0.0000,0.0000,0.0000,1.0000000,0.0000000,0.0000000,0.0000000,1.0000000,0.0000000
+$$ centerline data
+PAINT/PATH
+PAINT/SPEED,10
+SELECT/TOOL,4
+SPINDL/RPM,6000,CLW
+FROM/0.0D+00,0.0D+00,5.0D+01
+RAPID
+GOTO/1.0D+01,0.0000,5.0000,0.0000000,0.0000000,1.0000000
+FEDRAT/MMPM,1.2D+03
+INDIRV/0.0,1.0,0.0
+CIRCLE/0.0000,0.0000,5.0000,0.0000000,0.0000000,1.0000000,10.0000,0.0600,0.5000,10.0000,0.0000
+GOTO/0.0000,10.0000,5.0000
+INTOL/0.0050
+GOTO/0.0000,10.0000,2.0D+00
+PAINT/COLOR,186
+GOHOME
+END-OF-PATH
+"""
+
+
+def test_nx_and_creo_statements_read_to_the_expected_path(tmp_path):
+    (tmp_path / "nx.cls").write_text(NX)
+    tp = read_apt(tmp_path / "nx.cls")
+    assert (tp.diameter, tp.corner_radius, tp.tool_number, tp.spindle_rpm) == (10.0, 1.0, 4, 6000.0)
+    np.testing.assert_allclose(tp.start, [0, 0, 50])
+    np.testing.assert_allclose(tp.tip[0], [10, 0, 5])
+    np.testing.assert_allclose(tp.tip[-2], [0, 10, 2])          # the plunge after the arc
+    np.testing.assert_allclose(tp.tip[-1], [0, 0, 50])          # GOHOME: a rapid back to FROM
+    assert tp.rapid[0] and tp.rapid[-1] and not tp.rapid[1:-1].any()
+    arc = tp.tip[1:-2]                                          # the quarter circle, counter-clockwise
+    r = np.linalg.norm(arc[:, :2], axis=1)
+    np.testing.assert_allclose(r, 10, atol=1e-9)
+    ang = np.arctan2(arc[:, 1], arc[:, 0])
+    assert np.all(np.diff(ang) > 0) and ang[-1] == pytest.approx(np.pi / 2)
+    # every chord of the arc within the 0.01 mm default chord tolerance
+    mids = 0.5 * (arc[1:] + arc[:-1])
+    sag = 10 - np.linalg.norm(mids[:, :2], axis=1)
+    assert sag.max() <= 0.01 + 1e-12 and sag.max() > 0.004     # not needlessly dense either
+    assert tp.feed[1] == 1200
+    assert tp.ignored == {"TOOL PATH": 1, "MSYS": 1, "PAINT": 3, "INDIRV": 1, "INTOL": 1, "END-OF-PATH": 1}
+
+
+def test_creo_spindle_and_clockwise_arc_by_a_reversed_axis(tmp_path):
+    text = """PARTNO CREO
+UNITS/MM
+LOADTL/2
+SPINDL/RPM,6000,CLW
+CUTTER/12.000000
+COOLNT/ON
+FEDRAT/MMPM,800
+GOTO/0,5,0
+CIRCLE/0,0,0,0,0,-1,5,0.01
+GOTO/5,0,0
+FINI
+"""
+    (tmp_path / "creo.ncl").write_text(text)
+    tp = read_apt(tmp_path / "creo.ncl")
+    assert tp.spindle_rpm == 6000 and tp.diameter == 12 and tp.ignored == {}
+    # about -Z, counter-clockwise is clockwise seen from above: (0, 5) -> (5, 0) the short way
+    ang = np.arctan2(tp.tip[:, 1], tp.tip[:, 0])
+    assert np.all(np.diff(ang) < 0) and len(tp.tip) < 40
