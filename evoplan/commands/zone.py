@@ -57,7 +57,7 @@ class ZoneBase(_Strict):
     direction_scan: int = Field(12, ge=1)
     step: float = Field(1.0, gt=0, description="largest distance between CC points (mm)")
     strategy: Any = Field("parallel", description="the pass layout: a registered strategy "
-                          "name (parallel, isoscallop, isoparametric) or {name, ...settings}")
+                          "name (parallel, isoscallop, contour, isoparametric) or {name, ...settings}")
 
     @field_validator("method")
     @classmethod
@@ -84,7 +84,7 @@ def add_parser(sub) -> argparse.ArgumentParser:
     p.add_argument("--method", metavar="NAME",
                    help=f"override the method (registered: {', '.join(REGISTRY)})")
     p.add_argument("--strategy", metavar="NAME",
-                   help="override the pass layout (parallel, isoscallop, isoparametric)")
+                   help="override the pass layout (parallel, isoscallop, contour, isoparametric)")
     return p
 
 

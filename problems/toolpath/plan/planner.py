@@ -9,7 +9,8 @@ One pipeline for every configuration (the folders' order):
    (Herraz Eq. 3 on the zone's samples: ``zoning/direction.py``), memoized per
    (zoning, tool).
 3. **Passes**: the strategy's (``strategies/``, one module and one registry entry each:
-   ``parallel`` planes, ``isoscallop`` offsets, ``isoparametric`` curves); the planner
+   ``parallel`` planes, ``isoscallop`` offsets, ``contour`` loops, ``isoparametric``
+   curves); the planner
    holds no pass logic. Each strategy puts CC points on its passes (the maximum step, then
    the chord tolerance) and orders them for machining (zones in plan order, passes in
    zig-zag inside a zone, sections along their travel).

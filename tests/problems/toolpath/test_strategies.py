@@ -249,3 +249,25 @@ def test_isoscallop_on_a_cylinder_spaces_a_ball_by_the_circle_intersection_close
     ratio = gaps / exact
     assert np.all(ratio > 1.0) and np.all(ratio < 1.03), ratio
     assert np.allclose(ratio, ratio[::-1], rtol=1e-9)  # symmetric about the crest
+
+
+def test_contour_loops_are_nested_and_never_cross():
+    import shapely
+
+    from evoplan.problems.toolpath.plan.strategies.contour import contour_loops
+
+    surface, tools = parse_surface("choi"), parse_tools(BALL)
+    pl = Planner(surface, tools, machine="3axis", spacing="scallop", h_c=H_C, feed_angle=0.0,
+                 strategy="contour")
+    loops = contour_loops(pl, pl.layouts.get(None, 0), 0, tools.cutter(0), H_C)
+    assert len(loops) > 5
+    rings = []
+    for pieces in loops:
+        assert len(pieces) == 1  # Choi's footprint is convex: one loop per offset
+        uv = pieces[0].uv
+        assert np.allclose(uv[0], uv[-1])  # closed
+        rings.append(shapely.Polygon(surface.jet(uv[:, 0], uv[:, 1], order=0).p[:, :2]))
+    for outer, inner in zip(rings[:-1], rings[1:]):
+        assert outer.contains(inner) and not outer.exterior.intersects(inner.exterior)
+    batch = pl.plan(_genes(), place=False)
+    assert len(np.unique(batch.sec_pass)) == len(loops)

@@ -4,6 +4,8 @@
   or adaptive at h_c (each plane as far as its pass's worst point allows);
 - ``isoscallop`` (``isoscallop.py``): each pass offset from the previous one, point by
   point, by the cross-feed distance that leaves exactly h_c there;
+- ``contour`` (``contour.py``): inward offsets of the zone's boundary, nested loops cut
+  outside in, each as far as the worst point of the previous loop allows;
 - ``isoparametric`` (``isoparametric.py``): u (or v) iso-curves of the surface, spaced by
   the worst point of each curve.
 
@@ -14,6 +16,7 @@ yields the same ``PlanBatch`` (``base.py``).
 from __future__ import annotations
 
 from .base import Strategy
+from .contour import Contour
 from .isoparametric import IsoParametric
 from .isoscallop import IsoScallop
 from .parallel import Parallel
@@ -21,7 +24,8 @@ from .parallel import Parallel
 __all__ = ["STRATEGIES", "Strategy", "get_strategy"]
 
 STRATEGIES: dict[str, type[Strategy]] = {
-    "parallel": Parallel, "isoscallop": IsoScallop, "isoparametric": IsoParametric}
+    "parallel": Parallel, "isoscallop": IsoScallop, "contour": Contour,
+    "isoparametric": IsoParametric}
 
 
 def get_strategy(spec=None, key: str = "strategy") -> Strategy:

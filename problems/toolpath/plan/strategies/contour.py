@@ -1,0 +1,120 @@
+"""``contour``: concentric loops, inward offsets of the zone's boundary, cut outside in.
+
+The zone's footprint in XY (the whole part: the image of its boundary loops; a zone: the
+union of its mesh cells, mapped to XY) is offset inwards by shapely (GEOS buffers: exact in
+floating point, nested by construction, an offset that pinches splits into several loops
+and one that vanishes is empty; pyclipr would be faster but works on integer coordinates,
+and shapely is already the project's polygon library). The first loop is the boundary
+itself; the next offset distance is as far from the current loop as its WORST point allows
+(the cross-feed width that leaves h_c, ``offsets.cross_width``, times the horizontal part
+of the inward cross-feed), until nothing is left. Each loop is one section, closed, its
+start moved to the point nearest the previous loop's end (short links). CC points lie on
+the surface above the loops (the XY offsets mapped back to (u, v)).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..curves import Piece
+from .base import CurveStrategy
+from .offsets import cross_width, pass_frame
+
+__all__ = ["Contour", "zone_polygon", "contour_loops"]
+
+
+def zone_polygon(surface, labels, z, n_side: int = 256):
+    """The XY polygon of zone z (its mesh cells' union mapped to XY)."""
+    import shapely
+
+    n, m = labels.shape
+    if np.all(labels == z):
+        t = np.linspace(0.0, 1.0, n_side, endpoint=False)
+        one, zero = np.ones_like(t), np.zeros_like(t)
+        rings_uv = [np.column_stack([np.r_[t, one, 1 - t, zero], np.r_[zero, t, one, 1 - t]])]
+    else:
+        i, j = np.nonzero(labels == z)
+        cells = shapely.box(i / n, j / m, (i + 1) / n, (j + 1) / m)
+        uni = shapely.unary_union(cells)
+        polys = list(getattr(uni, "geoms", [uni]))
+        big = max(polys, key=lambda g: g.area)
+        ring = shapely.segmentize(big.exterior, 0.25 / max(n, m))
+        rings_uv = [np.asarray(ring.coords)[:-1]]
+    xy = [surface.jet(r[:, 0], r[:, 1], order=0).p[:, :2] for r in rings_uv]
+    poly = shapely.Polygon(xy[0])
+    return poly if poly.is_valid else shapely.make_valid(poly)
+
+
+def _to_uv(geom, xy):
+    """(u, v) of XY points: the pass tables of feed 0 deg (d = y, s = x) and Newton."""
+    d, s = xy[:, 1], xy[:, 0]
+    lo, hi = geom.pass_extent(d)
+    tau = np.clip((s - lo) / np.where(hi > lo, hi - lo, 1.0), 0.0, 1.0)
+    u0, v0 = geom.seed(d, tau)
+    return np.column_stack(geom._newton(d, s, u0, v0, iters=8))
+
+
+def contour_loops(planner, layout, z, cutter, h_c, lead_tilt=None, ds=0.5, max_loops=2000):
+    """[[Piece]] per offset distance (outside in) of zone z."""
+    import shapely
+
+    surface = planner.surface
+    geom = planner.geometry(0.0)
+    poly = zone_polygon(surface, layout.labels, z)
+    out, dist, end, prev, spine = [], 0.0, None, None, False
+    for k in range(max_loops):
+        region = poly if dist == 0 else poly.buffer(-dist)
+        if region.is_empty and prev is not None and not spine:
+            # nothing left at the next distance: the last loop is the deepest non-empty
+            # offset (the zone's spine), so the middle between the previous loop and it
+            # is cut too
+            lo, hi = prev, dist
+            for _ in range(20):
+                mid = 0.5 * (lo + hi)
+                lo, hi = (mid, hi) if not poly.buffer(-mid).is_empty else (lo, mid)
+            spine, dist = True, lo
+            region = poly.buffer(-dist)
+        if region.is_empty:
+            break
+        rings = [g.exterior for g in getattr(region, "geoms", [region]) if g.area > 1e-9]
+        pieces, steps = [], []
+        for ring in rings:
+            xy = np.asarray(shapely.segmentize(ring, ds).coords)[:-1]
+            if len(xy) < 3:
+                continue
+            if shapely.LinearRing(xy).is_ccw is False:
+                xy = xy[::-1]
+            if end is not None:  # start where the previous loop ended
+                xy = np.roll(xy, -int(np.argmin(np.linalg.norm(xy - end, axis=1))), axis=0)
+            xy = np.vstack([xy, xy[:1]])
+            uv = _to_uv(geom, xy)
+            jet, n, t, b = pass_frame(surface, uv)
+            tan_xy = np.gradient(xy, axis=0)
+            inward = np.column_stack([-tan_xy[:, 1], tan_xy[:, 0]])  # left of a ccw loop
+            inward /= np.maximum(np.linalg.norm(inward, axis=1, keepdims=True), 1e-300)
+            b *= np.where(np.sum(b[:, :2] * inward, axis=1) >= 0, 1.0, -1.0)[:, None]
+            w = cross_width(surface, cutter, h_c, jet, t, b, lead_tilt)
+            horiz = np.abs(np.sum(b[:, :2] * inward, axis=1))
+            steps.append(float(np.min(w * horiz)))
+            cross = np.column_stack([inward, np.zeros(len(xy))])
+            pieces.append((uv, cross))
+            end = xy[-1]
+        if not pieces:
+            break
+        step = max(min(steps), 1e-3)
+        out.append([Piece(uv, cross, np.full(len(uv), 0.0 if spine else step), z, k,
+                          layout.alpha[z]) for uv, cross in pieces])
+        if spine:
+            break
+        prev, dist = dist, dist + step
+    return out
+
+
+class Contour(CurveStrategy):
+    name = "contour"
+    KEYS = {"resample": 0.5}
+
+    def zone_passes(self, planner, layout, z, cutter, lead_tilt):
+        loops = contour_loops(planner, layout, z, cutter, planner.h_c, lead_tilt,
+                              float(self.settings["resample"]))
+        return [pc for pieces in loops for pc in pieces]  # every loop the same way round
