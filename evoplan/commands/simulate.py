@@ -6,6 +6,7 @@ Three ways to name the toolpath, over the surface of a run file's toolpath probl
     evoplan simulate --run DIR [--out DIR2]                       # the best plan of a finished run
                                         # (read as data: a run of user code needs --trust-code MODULE)
     evoplan simulate CONFIG --apt FILE [--out DIR]                # an outside APT CL file
+    evoplan simulate CONFIG --nc FILE --tool D[,r] [--out DIR]    # an outside ISO/Fanuc program
 
 Writes ``simulation.json`` (scallop max / mean / p50 / p90 / p99, gouge max and area, uncut
 fraction, grid, CL points, seconds, per-zone figures), ``deviation_map.png`` and
@@ -38,6 +39,9 @@ def add_parser(sub) -> argparse.ArgumentParser:
                    help="with --run: allow the folder's problem to import MODULE (user code); "
                         "without it a results folder runs no code")
     src.add_argument("--apt", help="an APT CL file (GOTO/x,y,z[,i,j,k], CUTTER/, MULTAX)")
+    src.add_argument("--nc", help="an ISO/Fanuc G-code program (G0-G3, G17-19, G90/91, G43.4 with A/C "
+                                  "of a table-table machine); needs --tool")
+    p.add_argument("--tool", metavar="D[,r]", help="with --nc: the cutter's diameter and corner radius (mm)")
     p.add_argument("--out", help="folder for simulation.json and the figures (default: results/simulate-<time>)")
     p.add_argument("--grid", type=float, default=0.1, metavar="MM", help="cell size (default 0.1 mm)")
     p.add_argument("--rays", choices=["normal", "vertical"], default="normal",
@@ -93,6 +97,8 @@ def _problem_and_plan(args):
         except (OSError, ValueError) as e:
             raise ConfigError(f"{args.apt}: {e}") from None
         return config, problem, path, None, f"APT file {Path(args.apt).name}"
+    if getattr(args, "nc", None):
+        return (config, problem, *_nc_path(args))
     if params is None:
         if not args.values:
             raise EvoplanError(f"{config}: give the plan's parameters with --set NAME=VALUE, "
@@ -104,6 +110,25 @@ def _problem_and_plan(args):
         raise ConfigError(f"{config}: {e}") from None
     label = ", ".join(f"{k} {v:g}" if isinstance(v, float) else f"{k} {v}" for k, v in params.items())
     return config, problem, path, labels, label
+
+
+def _nc_path(args):
+    """(CLPath, None, label) of ``--nc FILE --tool D[,r]``."""
+    from ..problems.toolpath.clpath import CLPath
+    from ..problems.toolpath.export.gcode_read import GcodeError, read_gcode
+    from ..problems.toolpath.export.kinematics import Kinematics, Rotary
+
+    try:
+        d, r = ([float(x) for x in (args.tool or "").split(",")] + [0.0])[:2]
+        if not (d > 0 and 0 <= r <= d / 2):
+            raise ValueError
+    except ValueError:
+        raise ConfigError(f"--tool {args.tool!r}: give the cutter as D[,r] in mm (d > 0, 0 <= r <= D/2)") from None
+    kin = Kinematics("table_table", Rotary("A", "x", (-120, 120)), Rotary("C", "z", (-1e6, 1e6)))
+    try:
+        return CLPath.from_apt(read_gcode(args.nc, d, r, kin)), None, f"NC file {Path(args.nc).name}"
+    except (GcodeError, OSError, ValueError) as e:
+        raise ConfigError(f"{args.nc}: {e}") from None
 
 
 def main(args: argparse.Namespace) -> int:
