@@ -91,10 +91,19 @@ def test_bad_strategies_are_one_line_errors():
         get_strategy({"name": "isoscallop", "curves": "u"})
     with pytest.raises(ValueError, match=r"^h_c: the isoscallop strategy"):
         Planner(surface, tools, machine="3axis", strategy="isoscallop")
+    with pytest.raises(ValueError, match=r"^strategy\.master_offset: 500 mm lies outside the p"):
+        Planner(surface, tools, machine="3axis", spacing="scallop", h_c=H_C, feed_angle=0.0,
+                strategy={"name": "isoscallop", "master_offset": 500.0})
+    with pytest.raises(ValueError, match=r"^strategy\.master_offset: a master plane needs"):
+        Planner(surface, tools, machine="3axis", spacing="scallop", h_c=H_C, feed_angle=None,
+                strategy={"name": "isoscallop", "master_offset": 5.0})
+    # inside the part but outside a zone: refused when the zone is planned
+    from evoplan.problems.toolpath.plan.zones import ZoningSpec
     pl = Planner(surface, tools, machine="3axis", spacing="scallop", h_c=H_C, feed_angle=0.0,
-                 strategy={"name": "isoscallop", "master_offset": 500.0})
-    with pytest.raises(ValueError, match=r"^strategy\.master_offset: 500 mm lies outside"):
-        pl.plan(_genes(), place=False)
+                 zoning=ZoningSpec("kmeans", mesh=(20, 20), merge=None),
+                 strategy={"name": "isoscallop", "master_offset": 75.0})
+    with pytest.raises(ValueError, match=r"^strategy\.master_offset: 75 mm lies outside zone"):
+        pl.plan({**_genes(), "zones": np.array([3])}, place=False)
     assert set(STRATEGIES) >= {"parallel", "isoscallop", "isoparametric"}
 
 

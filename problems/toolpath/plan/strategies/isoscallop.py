@@ -158,6 +158,23 @@ class IsoScallop(CurveStrategy):
         if not (isinstance(ds, (int, float)) and ds > 0):
             raise ValueError(f"{key}.resample: expected a positive number of mm, got {ds!r}")
 
+    def check(self, planner, key: str = "strategy") -> None:
+        """Also: a ``master_offset`` needs the configured feed direction and must cross the
+        part (checked before any plan: a plane off the part holds no master pass)."""
+        super().check(planner, key)
+        off = self.settings["master_offset"]
+        if off is None:
+            return
+        if isinstance(off, bool) or not isinstance(off, (int, float)):
+            raise ValueError(f"{self.key}.master_offset: expected a number of mm, got {off!r}")
+        if planner.feed_angle is None:
+            raise ValueError(f"{self.key}.master_offset: a master plane needs a fixed "
+                             f"feed_angle (the zones' directions are optimized)")
+        geom = planner.geometry(np.radians(planner.feed_angle))
+        if not geom.d_min <= off <= geom.d_max:
+            raise ValueError(f"{self.key}.master_offset: {off:g} mm lies outside the part "
+                             f"([{geom.d_min:.3f}, {geom.d_max:.3f}] mm across the feed)")
+
     def zone_passes(self, planner, layout, z, cutter, lead_tilt):
         return zigzag(zone_passes(planner, layout, z, cutter, planner.h_c, lead_tilt,
                                   self.settings["master_offset"],
