@@ -85,6 +85,10 @@ def prepare(config: RunConfig, source: str = "<config>", problem=None) -> Prepar
         evaluator = evaluator_for(problem, config, source)
     except ValueError as e:
         raise ConfigError(f"{source}: problem.{e}") from None
+    threads = getattr(getattr(problem, "simulated", None), "threads", 1)
+    if threads > 1 and config.evaluation.backend != "serial":
+        raise ConfigError(f"{source}: problem.params.simulation.threads: {threads} threads need evaluation.backend: "
+                          f"serial (the {config.evaluation.backend} backend already uses the cores)")
     t = config.termination
     prepared = Prepared(config, source, space, evaluator, Termination(t.generations, t.evaluations, t.target, t.seconds))
     check_population(config.algorithm, prepared.search.n_bits, space.n_var, source)

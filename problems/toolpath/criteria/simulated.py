@@ -34,10 +34,11 @@ SIMULATED = names(simulated=True)
 class SimulatedCriteria:
     """The cut simulation as a criteria source for a problem whose rows make CL paths.
 
-    ``options``: ``grid_mm`` (0.5), ``rays`` (normal | vertical), ``allowance`` (0.5 mm).
+    ``options``: ``grid_mm`` (0.5), ``rays`` (normal | vertical), ``allowance`` (0.5 mm),
+    ``threads`` (1: the sweep's tiles shared among that many threads, same residual).
     """
 
-    KEYS = {"grid_mm", "rays", "allowance"}
+    KEYS = {"grid_mm", "rays", "allowance", "threads"}
 
     def __init__(self, surface, options: dict | None = None, key: str = "simulation"):
         options = dict(options or {})
@@ -53,6 +54,10 @@ class SimulatedCriteria:
         for name in ("grid_mm", "allowance"):
             if not (np.isfinite(getattr(self, name)) and getattr(self, name) > 0):
                 raise ValueError(f"{key}.{name}: must be a positive number of mm")
+        threads = options.get("threads", 1)
+        if isinstance(threads, bool) or not isinstance(threads, int) or threads < 1:
+            raise ValueError(f"{key}.threads: expected a whole number of threads >= 1, got {threads!r}")
+        self.threads = threads
         self.vertical = rays == "vertical"
         self.surface = surface
         self._grid: DesignGrid | None = None
@@ -69,7 +74,7 @@ class SimulatedCriteria:
     def measure(self, path, flat: bool) -> dict[str, float]:
         """The simulated criteria (``SIMULATED``) of one CL path (``flat``: a flat-end cutter)."""
         grid = self.grid
-        res = sweep_path(path, grid, vertical=self.vertical).values
+        res = sweep_path(path, grid, vertical=self.vertical, threads=self.threads).values
         m = residual_metrics(grid, res, self.allowance)
         dev = np.abs(np.clip(res[grid.inside], -np.inf, self.allowance))
         area = grid.cell_area()[grid.inside]
