@@ -13,4 +13,5 @@ COMMANDS = {
     "simulate": "cut a toolpath in simulation and measure scallop and gouge",
     "examples": "list the shipped run and study files, or copy one",
     "machine": "roughing, semi-finish and finish NC programs for one surface",
+    "report": "one self-contained HTML report (plots, tables, 3D toolpath) of a results folder",
 }

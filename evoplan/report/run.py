@@ -1,0 +1,139 @@
+"""A run's report: convergence with hover, the best decisions with units, the toolpath in 3D."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import ConfigError
+from .folder import read_csv, read_json
+from .page import Section, note, table
+
+#: units of the toolpath problem's decisions (problems/toolpath/genes.py)
+DECISION_UNITS = {"tool": "index in the tool list", "stepover": "% of D", "lead": "deg",
+                  "tilt": "deg", "step": "mm"}
+#: plotly's default qualitative colours, one per section of the path (cycled)
+COLOURS = ("#636EFA", "#EF553B", "#00CC96", "#AB63FA", "#FFA15A", "#19D3F3", "#FF6692",
+           "#B6E880", "#FF97FF", "#FECB52")
+
+
+def sections(folder: Path) -> list[Section]:
+    out = [Section("Convergence", [convergence(folder / "history.csv")])]
+    if (folder / "best.json").is_file():
+        out.append(Section("Best solution", [best_table(folder / "best.json")]))
+    if (folder / "toolpath.apt").is_file():
+        out.append(Section("Toolpath (toolpath.apt)", toolpath(folder / "toolpath.apt")))
+    return out
+
+
+def convergence(path: Path):
+    """Best so far over generations, over the population band (best to worst of each
+    generation) and its mean; hover gives generation, evaluations and value."""
+    import plotly.graph_objects as go
+
+    h = read_csv(path, ("generation", "best", "mean", "worst"))
+    gen = h["generation"].to_numpy()
+    best_so_far = np.minimum.accumulate(h["best"].to_numpy(dtype=float))
+    evals = h["evaluations"].to_numpy() if "evaluations" in h else np.full(len(h), np.nan)
+    hover = "generation %{x}<br>evaluations %{customdata}<br>%{y:.6g}"
+    fig = go.Figure()
+    fig.add_trace(go.Scatter(x=gen, y=h["worst"], mode="lines", line=dict(width=0.5, color="#9ecae1"),
+                             name="worst of generation", customdata=evals, hovertemplate=hover))
+    fig.add_trace(go.Scatter(x=gen, y=h["best"], mode="lines", line=dict(width=0.5, color="#9ecae1"),
+                             fill="tonexty", fillcolor="rgba(158,202,225,0.35)",
+                             name="population band (best to worst of generation)",
+                             customdata=evals, hovertemplate=hover))
+    fig.add_trace(go.Scatter(x=gen, y=h["mean"], mode="lines", line=dict(dash="dash", color="#3182bd"),
+                             name="population mean", customdata=evals, hovertemplate=hover))
+    fig.add_trace(go.Scatter(x=gen, y=best_so_far, mode="lines+markers", marker=dict(size=4),
+                             line=dict(width=2.5, color="#D55E00"), name="best so far",
+                             customdata=evals, hovertemplate=hover))
+    values = h[["best", "worst"]].to_numpy(dtype=float)
+    values = values[np.isfinite(values)]
+    log = values.size and values.min() > 0 and values.max() / values.min() > 100
+    fig.update_xaxes(tickformat="d", dtick=1 if len(gen) <= 12 else None)
+    fig.update_layout(xaxis_title="generation", yaxis_title="objective (minimized)",
+                      yaxis_type="log" if log else "linear", hovermode="x unified",
+                      height=460, margin=dict(l=60, r=20, t=30, b=50),
+                      legend=dict(orientation="h", y=-0.18))
+    return fig
+
+
+def best_table(path: Path) -> str:
+    """The best decisions (with units where known) and the objective, as an HTML table."""
+    best = read_json(path)
+    variables = best.get("variables")
+    if not isinstance(variables, dict):
+        return note(f"{path.name}: the run has no best solution")
+    space = {g.get("name"): g for g in best.get("space", []) if isinstance(g, dict)}
+    rows = []
+    for name, value in variables.items():
+        gene = space.get(name, {})
+        if "low" in gene and "high" in gene:
+            domain = f"[{gene['low']:g}, {gene['high']:g}]"
+        elif "choices" in gene:
+            domain = "{" + ", ".join(str(c) for c in gene["choices"]) + "}"
+        else:
+            domain = ""
+        rows.append([name, value, DECISION_UNITS.get(name, ""), domain])
+    rows.append(["objective", best.get("objective"), "", "minimized"])
+    facts = [f"{k} {best[k]}" for k in ("problem", "algorithm", "seed", "generations",
+                                        "evaluations", "stop_reason") if k in best]
+    return table(["decision", "value", "unit", "domain"], rows) + note(", ".join(facts))
+
+
+def toolpath(path: Path) -> list:
+    """The APT toolpath in 3D, one colour per section (zone/pass), rapids dashed, equal scales."""
+    import plotly.graph_objects as go
+
+    from ..problems.toolpath.export.apt_read import AptError, read_apt
+
+    try:
+        apt = read_apt(path)
+    except AptError as e:
+        raise ConfigError(f"{path}: {e}") from None
+    except (OSError, UnicodeDecodeError) as e:
+        raise ConfigError(f"{path}: unreadable ({e})") from None
+    tip, rapid, section = apt.tip, np.asarray(apt.rapid, bool), np.asarray(apt.section)
+    fig = go.Figure()
+    hover = "x %{x:.3f}<br>y %{y:.3f}<br>z %{z:.3f}<extra>%{fullData.name}</extra>"
+    # cutting moves: point i joins i-1 by a feed move; a new trace per section
+    for s in np.unique(section):
+        if s < 0:
+            continue
+        idx = np.flatnonzero(section == s)
+        # break the line where the move into a point is a rapid (drawn separately)
+        xyz = _polyline(tip, idx, ~rapid)
+        fig.add_trace(go.Scatter3d(x=xyz[:, 0], y=xyz[:, 1], z=xyz[:, 2], mode="lines",
+                                   line=dict(width=4, color=COLOURS[int(s) % len(COLOURS)]),
+                                   name=apt.sections[int(s)].lower(), hovertemplate=hover,
+                                   legendgroup="cut"))
+    moves = np.flatnonzero(rapid[1:]) + 1
+    if moves.size:
+        segs = np.full((3 * moves.size, 3), np.nan)
+        segs[0::3], segs[1::3] = tip[moves - 1], tip[moves]
+        fig.add_trace(go.Scatter3d(x=segs[:, 0], y=segs[:, 1], z=segs[:, 2], mode="lines",
+                                   line=dict(width=2, color="#555", dash="dash"),
+                                   name="rapids", hovertemplate=hover))
+    fig.update_layout(scene=dict(aspectmode="data", xaxis_title="x (mm)", yaxis_title="y (mm)",
+                                 zaxis_title="z (mm)", camera=dict(eye=dict(x=1.5, y=-1.6, z=1.1))),
+                      height=720,
+                      margin=dict(l=0, r=0, t=30, b=0))
+    tool = f"tool D{apt.diameter:g} r{apt.corner_radius:g} mm"
+    text = (f"{len(apt)} points in {len(apt.sections)} sections, {int(rapid.sum())} rapid moves, "
+            f"{tool}; one colour per zone/pass section (click the legend to hide one), rapids dashed, "
+            f"equal axis scales.")
+    return [note(text), fig]
+
+
+def _polyline(tip: np.ndarray, idx: np.ndarray, fed: np.ndarray) -> np.ndarray:
+    """Points ``idx`` joined by feed moves, with a NaN gap before each point reached by a rapid
+    and between non-consecutive indices."""
+    gap = np.zeros(idx.size, bool)
+    gap[1:] = (np.diff(idx) != 1) | ~fed[idx[1:]]
+    n = idx.size + int(gap.sum())
+    out = np.full((n, 3), np.nan)
+    pos = np.arange(idx.size) + np.cumsum(gap)
+    out[pos] = tip[idx]
+    return out
