@@ -318,7 +318,7 @@ def read_apt(path: str | Path) -> AptToolpath:
             r.info["part"] = code[6:].lstrip(" /").strip()
             continue
         m = STATEMENT.match(code)
-        if not m:
+        if not m or (" " in m.group(1).strip() and m.group(2) is None):  # "TOOL PATH/..." needs its slash
             raise AptError(line, f"not an APT statement: {code[:40]!r}")
         args = [a.strip() for a in m.group(2).split(",")] if m.group(2) is not None else []
         if not r.statement(line, m.group(1).upper(), args):

@@ -175,3 +175,9 @@ FINI
     # about -Z, counter-clockwise is clockwise seen from above: (0, 5) -> (5, 0) the short way
     ang = np.arctan2(tp.tip[:, 1], tp.tip[:, 0])
     assert np.all(np.diff(ang) < 0) and len(tp.tip) < 40
+
+
+def test_words_with_spaces_need_their_slash(tmp_path):
+    (tmp_path / "t.apt").write_text("CUTTER/6\nGOTO/0,0,0\nthis is not apt\n")
+    with pytest.raises(AptError, match=r"^LINE 3: not an APT statement"):
+        read_apt(tmp_path / "t.apt")
