@@ -130,11 +130,16 @@ def spread(keys: np.ndarray) -> np.ndarray:
     return x
 
 
-def first_occurrence(keys: list) -> np.ndarray:
-    """For each key of the list, the index of its first occurrence (one hash pass, in C)."""
+def first_occurrence(keys: np.ndarray) -> np.ndarray:
+    """For each key, the index of its first occurrence in ``keys``: one ``np.unique`` (a stable
+    sort) for a batch, or, below 64 keys where the sort's fixed cost dominates, one dict pass."""
     n = len(keys)
-    seen = dict(zip(reversed(keys), range(n - 1, -1, -1)))  # the earliest index is written last
-    return np.fromiter(map(seen.__getitem__, keys), dtype=np.intp, count=n)
+    if n >= 64:
+        _, first, inverse = np.unique(keys, return_index=True, return_inverse=True)
+        return first[inverse.ravel()]
+    listed = keys.tolist()
+    seen = dict(zip(reversed(listed), range(n - 1, -1, -1)))  # the earliest index is written last
+    return np.fromiter(map(seen.__getitem__, listed), dtype=np.intp, count=n)
 
 
 class EvaluationCache:
@@ -199,7 +204,7 @@ class EvaluationCache:
             known = slot >= 0
             f[known] = self.values[slot[known]]
         if miss.size > 1:
-            first[miss] = miss[first_occurrence(mixed[miss].tolist())]
+            first[miss] = miss[first_occurrence(mixed[miss])]
         return keys, f, first
 
     def store(self, keys: np.ndarray, f: np.ndarray, fresh: bool = False) -> None:
@@ -212,10 +217,11 @@ class EvaluationCache:
         if self.size == 0 or keys.size == 0:
             return
         f = np.asarray(f, dtype=float)
-        listed = spread(keys).tolist()
+        mixed = spread(keys)
+        listed = mixed.tolist()
         keep = np.isfinite(f)
         if not fresh:
-            keep &= first_occurrence(listed) == np.arange(keys.size)
+            keep &= first_occurrence(mixed) == np.arange(keys.size)
             if self._index:
                 keep &= self._slots(listed) < 0
         if not keep.all():

@@ -46,9 +46,9 @@ def reference(size):
     return cache
 
 
-def runs(algorithm: str, size: int, bits: int, gens: int = 30):
+def runs(algorithm: str, size: int, bits: int, gens: int = 30, population: int = 30):
     cfg = parse_config({"seed": 5, "problem": {"name": "kubota", "bits": bits},
-                        "algorithm": {"name": algorithm, "population": 30}, "termination": {"generations": gens},
+                        "algorithm": {"name": algorithm, "population": population}, "termination": {"generations": gens},
                         "cache": {"size": size}})
     p = prepare(cfg)
     new = run(p.new_state(), p.space, p.evaluator, p.termination)
@@ -59,9 +59,10 @@ def runs(algorithm: str, size: int, bits: int, gens: int = 30):
 
 
 @pytest.mark.parametrize("algorithm", ["ga", "vega"])
-@pytest.mark.parametrize("size, bits", [(100_000, 23), (100_000, 5), (40, 5), (0, 5), (100_000, 40)])
-def test_same_runs_bit_for_bit_and_same_hits_as_the_row_by_row_cache(algorithm, size, bits):
-    new, old = runs(algorithm, size, bits)
+@pytest.mark.parametrize("size, bits, population", [(100_000, 23, 30), (100_000, 5, 30), (40, 5, 30), (0, 5, 30),
+                                                    (100_000, 40, 30), (100_000, 6, 150), (500, 8, 150)])
+def test_same_runs_bit_for_bit_and_same_hits_as_the_row_by_row_cache(algorithm, size, bits, population):
+    new, old = runs(algorithm, size, bits, population=population)  # 150: batches past the dict pass
     strip = lambda st: [row[:8] for row in st.history]  # noqa: E731 - all but the seconds
     assert strip(new) == strip(old)
     assert new.best_f == old.best_f and (new.best_g == old.best_g).all()
