@@ -53,6 +53,8 @@ def convergence(path: Path):
     values = values[np.isfinite(values)]
     log = values.size and values.min() > 0 and values.max() / values.min() > 100
     fig.update_xaxes(tickformat="d", dtick=1 if len(gen) <= 12 else None)
+    if log:  # labels at 1, 2 and 5 of each decade (plotly's default crowds 1..9 together)
+        fig.update_yaxes(dtick="D2")
     fig.update_layout(xaxis_title="generation", yaxis_title="objective (minimized)",
                       yaxis_type="log" if log else "linear", hovermode="x unified",
                       height=460, margin=dict(l=60, r=20, t=30, b=50),
