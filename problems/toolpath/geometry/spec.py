@@ -8,6 +8,8 @@ Accepted forms of ``surface``:
   ``degree`` is optional (then any (p+1, q+1, 3) net with p, q >= 1 is accepted).
 - ``{"type": "bspline", "poles": NET, "degree": [p, q] (default [3, 3]),
   "knots_u": [...], "knots_v": [...]}``: knots optional (clamped uniform).
+- ``{"type": "nurbs", "poles": NET, "weights": WEIGHTS, ...}``: the ``bspline`` keys plus
+  ``weights`` (nu, nv), every weight finite and > 0 (rational B-spline, ``nurbs.py``).
 
 Optional for every type: ``flip_normal: true`` (the tool side is opposite to the default,
 which is the side with +z at the domain centre).
@@ -18,6 +20,11 @@ file holding it (relative paths are taken from ``base_dir``, the config file's f
 - ``.json`` / ``.yaml`` / ``.yml``: the nested list, or a mapping with a ``poles`` key;
 - ``.csv``: one pole per row ``i,j,x,y,z`` (an optional header row is skipped), every
   (i, j) of the grid exactly once.
+
+WEIGHTS takes the same forms: a nested list ``weights[i][j] = w``, or a file (a mapping with
+a ``weights`` key in JSON / YAML, rows ``i,j,w`` in CSV).
+
+Each type has one builder in ``BUILDERS`` (type -> function(spec, key, base_dir) -> Surface).
 
 Errors are ``ValueError`` with one line starting with the key path, e.g.
 ``surface.poles: expected shape (4, 4, 3), got (3, 4, 3)``.
@@ -33,6 +40,7 @@ import numpy as np
 
 from .bezier import BezierSurface, choi_surface
 from .bspline import BSplineSurface
+from .nurbs import NURBSSurface
 from .surface import Surface, fountas_surface
 from .surface_checks import check_height_field
 
@@ -43,6 +51,7 @@ _KEYS = {
     "choi": {"type", "flip_normal"},
     "bezier": {"type", "poles", "degree", "flip_normal"},
     "bspline": {"type", "poles", "degree", "knots_u", "knots_v", "flip_normal"},
+    "nurbs": {"type", "poles", "weights", "degree", "knots_u", "knots_v", "flip_normal"},
 }
 
 
@@ -67,8 +76,10 @@ def _net_loader():
     return NetLoader
 
 
-def load_poles(source, key: str = "surface.poles", base_dir=None) -> np.ndarray:
-    """A control net (nu, nv, 3) float from a nested list or a file path (see module doc)."""
+def load_poles(source, key: str = "surface.poles", base_dir=None,
+               field: str = "poles") -> np.ndarray:
+    """A control net (nu, nv, 3) float from a nested list or a file path (see module doc);
+    ``field="weights"`` reads a weights net (nu, nv) the same way (CSV rows ``i,j,w``)."""
     if isinstance(source, (str, Path)):
         path = Path(source)
         if not path.is_absolute() and base_dir is not None:
@@ -86,7 +97,7 @@ def load_poles(source, key: str = "surface.poles", base_dir=None) -> np.ndarray:
             elif suffix in (".yaml", ".yml"):
                 data = yaml.load(path.read_text(encoding="utf-8"), Loader=_net_loader())
             elif suffix == ".csv":
-                return _poles_from_csv(path, key)
+                return _poles_from_csv(path, key, 3 if field == "poles" else 1)
             else:
                 _fail(key, f"unsupported file type {suffix!r} (use .json, .yaml or .csv)")
         except (OSError, ValueError, RecursionError, yaml.YAMLError) as exc:
@@ -94,18 +105,20 @@ def load_poles(source, key: str = "surface.poles", base_dir=None) -> np.ndarray:
                 raise
             _fail(key, f"cannot read {path}: {str(exc).splitlines()[0]}")
         if isinstance(data, dict):
-            if "poles" not in data:
-                _fail(key, f"{path} has no 'poles' key")
-            data = data["poles"]
+            if field not in data:
+                _fail(key, f"{path} has no {field!r} key")
+            data = data[field]
         source = data
     try:
         net = np.array(source, dtype=float)
     except (TypeError, ValueError):
-        _fail(key, "expected a nested list poles[i][j] = [x, y, z] of numbers")
+        _fail(key, "expected a nested list poles[i][j] = [x, y, z] of numbers" if field == "poles"
+              else f"expected a nested list {field}[i][j] of numbers")
     return net
 
 
-def _poles_from_csv(path: Path, key: str) -> np.ndarray:
+def _poles_from_csv(path: Path, key: str, width: int = 3) -> np.ndarray:
+    cols = "i,j,x,y,z" if width == 3 else "i,j,w"
     rows = []
     with path.open(newline="") as fh:
         for n, row in enumerate(csv.reader(fh)):
@@ -116,9 +129,10 @@ def _poles_from_csv(path: Path, key: str) -> np.ndarray:
             except ValueError:
                 if n == 0:
                     continue  # header
-                _fail(key, f"{path} line {n + 1}: expected numbers i,j,x,y,z")  # the line is not echoed
-            if len(vals) != 5:
-                _fail(key, f"{path} line {n + 1}: expected 5 columns i,j,x,y,z, got {len(vals)}")
+                _fail(key, f"{path} line {n + 1}: expected numbers {cols}")  # the line is not echoed
+            if len(vals) != 2 + width:
+                _fail(key, f"{path} line {n + 1}: expected {2 + width} columns {cols}, "
+                      f"got {len(vals)}")
             rows.append(vals)
     if not rows:
         _fail(key, f"{path} holds no poles")
@@ -127,15 +141,15 @@ def _poles_from_csv(path: Path, key: str) -> np.ndarray:
     if np.any(ij != np.round(ij)) or np.any(ij < 0):
         _fail(key, f"{path}: i, j must be non-negative integers")
     nu, nv = int(ij[:, 0].max()) + 1, int(ij[:, 1].max()) + 1
-    net = np.full((nu, nv, 3), np.nan)
+    net = np.full((nu, nv, width), np.nan)
     seen = np.zeros((nu, nv), int)
-    for i, j, x, y, z in rows:
-        net[int(i), int(j)] = (x, y, z)
+    for i, j, *xyz in rows:
+        net[int(i), int(j)] = xyz
         seen[int(i), int(j)] += 1
     if np.any(seen != 1):
         i, j = np.argwhere(seen != 1)[0]
         _fail(key, f"{path}: pole ({i}, {j}) given {seen[i, j]} times (expected once)")
-    return net
+    return net if width == 3 else net[..., 0]
 
 
 def _check_net(net: np.ndarray, key: str, expected=None) -> None:
@@ -175,6 +189,75 @@ def _knots(value, n_poles: int, degree: int, key: str):
     return t
 
 
+def _checked(surf: Surface, key: str) -> Surface:
+    check_height_field(surf, key)  # no fold, overhang, vertical wall or self-overlap
+    return surf
+
+
+def _net(spec, key: str, base_dir) -> np.ndarray:
+    if "poles" not in spec:
+        _fail(f"{key}.poles", "missing")
+    return load_poles(spec["poles"], f"{key}.poles", base_dir)
+
+
+def _bezier(spec, key: str, base_dir) -> Surface:
+    net = _net(spec, key, base_dir)
+    expected = None
+    if "degree" in spec:
+        p, q = _degree(spec["degree"], f"{key}.degree")
+        expected = (p + 1, q + 1, 3)
+    _check_net(net, f"{key}.poles", expected)
+    return _checked(BezierSurface(net), key)
+
+
+def _bspline_args(spec, key: str, base_dir):
+    net = _net(spec, key, base_dir)
+    p, q = _degree(spec.get("degree", [3, 3]), f"{key}.degree")
+    _check_net(net, f"{key}.poles")
+    if net.shape[0] <= p or net.shape[1] <= q:
+        _fail(f"{key}.poles", f"a degree ({p}, {q}) B-spline needs at least "
+              f"({p + 1}, {q + 1}, 3) poles, got {net.shape}")
+    tu = _knots(spec.get("knots_u"), net.shape[0], p, f"{key}.knots_u")
+    tv = _knots(spec.get("knots_v"), net.shape[1], q, f"{key}.knots_v")
+    return net, (p, q), tu, tv
+
+
+def _bspline(spec, key: str, base_dir) -> Surface:
+    return _checked(BSplineSurface(*_bspline_args(spec, key, base_dir)), key)
+
+
+def _weights(spec, key: str, base_dir, shape) -> np.ndarray:
+    wkey = f"{key}.weights"
+    if "weights" not in spec:
+        _fail(wkey, "missing (a nurbs surface needs one weight per pole)")
+    w = load_poles(spec["weights"], wkey, base_dir, field="weights")
+    if w.shape != shape:
+        _fail(wkey, f"expected shape {shape} (one weight per pole), got {w.shape}")
+    bad = ~np.isfinite(w)
+    if bad.any():
+        i, j = np.argwhere(bad)[0]
+        _fail(wkey, f"contains NaN or infinite values (first at [{i}][{j}])")
+    if np.any(w <= 0):
+        i, j = np.argwhere(w <= 0)[0]
+        _fail(wkey, f"weights must be > 0, got {w[i, j]:g} at [{i}][{j}]")
+    return w
+
+
+def _nurbs(spec, key: str, base_dir) -> Surface:
+    net, degree, tu, tv = _bspline_args(spec, key, base_dir)
+    w = _weights(spec, key, base_dir, net.shape[:2])
+    return _checked(NURBSSurface(net, w, degree, tu, tv), key)
+
+
+BUILDERS = {
+    "fountas": lambda spec, key, base_dir: fountas_surface(),
+    "choi": lambda spec, key, base_dir: choi_surface(),
+    "bezier": _bezier,
+    "bspline": _bspline,
+    "nurbs": _nurbs,
+}
+
+
 def parse_surface(spec, key: str = "surface", base_dir=None) -> Surface:
     """Build a surface from plain data (see the module docstring)."""
     if isinstance(spec, Surface):
@@ -192,31 +275,7 @@ def parse_surface(spec, key: str = "surface", base_dir=None) -> Surface:
     flip = spec.get("flip_normal", False)
     if not isinstance(flip, bool):
         _fail(f"{key}.flip_normal", f"expected true or false, got {flip!r}")
-    if kind == "fountas":
-        surf = fountas_surface()
-    elif kind == "choi":
-        surf = choi_surface()
-    else:
-        if "poles" not in spec:
-            _fail(f"{key}.poles", "missing")
-        net = load_poles(spec["poles"], f"{key}.poles", base_dir)
-        if kind == "bezier":
-            expected = None
-            if "degree" in spec:
-                p, q = _degree(spec["degree"], f"{key}.degree")
-                expected = (p + 1, q + 1, 3)
-            _check_net(net, f"{key}.poles", expected)
-            surf = BezierSurface(net)
-        else:
-            p, q = _degree(spec.get("degree", [3, 3]), f"{key}.degree")
-            _check_net(net, f"{key}.poles")
-            if net.shape[0] <= p or net.shape[1] <= q:
-                _fail(f"{key}.poles", f"a degree ({p}, {q}) B-spline needs at least "
-                      f"({p + 1}, {q + 1}, 3) poles, got {net.shape}")
-            tu = _knots(spec.get("knots_u"), net.shape[0], p, f"{key}.knots_u")
-            tv = _knots(spec.get("knots_v"), net.shape[1], q, f"{key}.knots_v")
-            surf = BSplineSurface(net, (p, q), tu, tv)
-        check_height_field(surf, key)  # no fold, overhang, vertical wall or self-overlap
+    surf = BUILDERS[kind](spec, key, base_dir)
     if flip:
         surf.normal_sign = -surf.normal_sign
     return surf

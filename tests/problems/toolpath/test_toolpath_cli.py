@@ -58,9 +58,15 @@ def test_run_writes_cc_pattern_and_apt_file(tmp_path):
     assert sections[:2] == ["$$ ZONE 0 PASS 0", "$$ ZONE 0 PASS 1"] and len(sections) >= 10
 
 
+NURBS = ("{{surface: {{type: nurbs, degree: [2, 1], weights: {w}, poles: [[[0, 0, 0], [0, 1, 0]], "
+         "[[1, 0, 1], [1, 1, 1]], [[2, 0, 0], [2, 1, 0]]]}}}}")
 BAD_PARAMS = {
     "net_shape": ("{surface: {type: bezier, poles: [[[0, 0, 0], [1, 0, 0]], [[0, 1, 0]]]}}", "surface"),
     "net_nan": ("{surface: {type: bezier, poles: [[[0, 0, .nan], [1, 0, 0]], [[0, 1, 0], [1, 1, 0]]]}}", "surface"),
+    "nurbs_weights_nan": (NURBS.format(w="[[1, 1], [.nan, 1], [1, 1]]"),
+                          "surface.weights: contains NaN or infinite values"),
+    "nurbs_weights_shape": (NURBS.format(w="[[1, 1], [1, 1]]"),
+                            "surface.weights: expected shape (3, 2) (one weight per pole)"),
     "corner_radius": ("{tools: [{id: 1, type: toroidal, diameter: 8, corner_radius: 5}]}", "corner"),
     "weights_sum": ("{weights: {machining_error: 0.7, cc_count: 0.5}}", "weights"),
     "machine": ("{machine: 4axis}", "machine: expected one of 5axis, 3axis"),
