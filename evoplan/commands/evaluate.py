@@ -4,12 +4,17 @@ The problem is the one of the run file CONFIG. Each variable of the problem must
 ``--set``; a categorical variable takes one of its choices (``--set tool=6``). Values outside
 their range are errors (exit 2). Besides the objective, everything the problem reports through
 an optional ``criteria(X) -> {name: (n,) array}`` method is printed.
+
+``--out DIR`` also writes ``criteria.json`` (the printed report) and the plan's own files
+(``toolpath.apt``, the zone map, the CC pattern), and ``--post NAME`` its NC program
+(``program.nc`` / ``.h`` / ``.mpf``), all or nothing.
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -25,6 +30,10 @@ def add_parser(sub) -> argparse.ArgumentParser:
     p.add_argument("config", help="YAML run file whose problem is evaluated")
     p.add_argument("--set", dest="values", action="append", default=[], metavar="NAME=VALUE",
                    help="a variable's value (repeat for each variable)")
+    p.add_argument("--out", help="also write criteria.json and the plan's files (toolpath.apt, the zone map) "
+                                 "into this new folder")
+    p.add_argument("--post", help="with --out: also the plan's NC program in this dialect (iso, fanuc, "
+                                  "heidenhain, siemens; the 5-axis posts with the default table-table A/C machine)")
     return p
 
 
@@ -70,6 +79,17 @@ def phenotype(space, values: dict[str, Any]) -> np.ndarray:
 def main(args: argparse.Namespace) -> int:
     from ..runner import prepare_file
 
+    if args.post and not args.out:
+        raise EvoplanError("--post: give --out DIR for the NC program")
+    if args.out:
+        from ..folder_writer import check_out
+
+        check_out(Path(args.out))
+    if args.post:
+        from ..problems.toolpath.export.posts import POSTS
+
+        if args.post not in POSTS:
+            raise EvoplanError(f"--post {args.post!r}: unknown post (known: {', '.join(sorted(POSTS))})")
     prepared = prepare_file(args.config)
     space = prepared.space
     X = phenotype(space, parse_assignments(args.values))
@@ -84,8 +104,57 @@ def main(args: argparse.Namespace) -> int:
             report["criteria"] = {k: _plain(np.asarray(v).reshape(-1)[0]) for k, v in criteria(X).items()}
         except ValueError as e:
             raise ConfigError(f"{args.config}: {e}") from None
+    if args.out:
+        files = {"criteria.json": json.dumps(report, indent=2).encode()}
+        files.update(_plan_files(args, problem, X))
+        from ..folder_writer import write_folder
+
+        write_folder(Path(args.out), files)
     print(json.dumps(report, indent=2))
     return 0
+
+
+def _plan_files(args, problem, X) -> dict[str, bytes]:
+    """The plan's own files (``problem.artifacts``: toolpath.apt, the zone map, ...) and with
+    ``--post`` its NC program; ConfigError (nothing written) if the post cannot write it."""
+    artifacts = getattr(problem, "artifacts", None)
+    if not callable(artifacts):
+        if args.post:
+            raise ConfigError(f"{args.config}: --post: the problem makes no toolpath")
+        return {}
+    try:
+        files = dict(artifacts(X[0]))
+        if args.post:
+            files[f"program{_post_ext(args.post)}"] = _nc_program(problem, X, args.post)
+    except ValueError as e:
+        raise ConfigError(f"{args.config}: --post {args.post}: {str(e).splitlines()[0]}") from None
+    return files
+
+
+def _post_ext(name: str) -> str:
+    from ..problems.toolpath.export.posts import POSTS
+
+    return POSTS[name].extension
+
+
+def _nc_program(problem, X, post_name: str) -> bytes:
+    """The NC program of the plan of row X[0] (the tool numbered by its id)."""
+    from ..problems.toolpath.export.kinematics import Kinematics, Rotary
+    from ..problems.toolpath.export.posts import POSTS, Machine
+    from ..problems.toolpath.export.toolpath import Tool, Toolpath
+
+    cls = POSTS[post_name]
+    genes = problem.genes.decode(problem.check(X))
+    path = problem.planner.cl_path(genes, problem.feed_rate)
+    t = problem.tool_db.tools[int(genes["tool"][0])]
+    tool = Tool(t.id, t.diameter, t.corner_radius, getattr(t, "spindle", None) or 6000.0)
+    tp = Toolpath.from_sections("finish", tool, path.tip, path.axis, path.section,
+                                feed=getattr(t, "feed", None) or problem.feed_rate,
+                                plunge_feed=getattr(t, "plunge_feed", None))
+    if not cls.five_axis and tp.multi_axis:
+        raise ValueError(f"{post_name} is a 3-axis post and the plan is 5-axis (use fanuc, heidenhain or siemens)")
+    kin = Kinematics("table_table", Rotary("A", "x", (-30.0, 110.0)), Rotary("C", "z", (-360.0, 360.0)))
+    return cls(Machine(kin if cls.five_axis else None)).program(tp).encode()
 
 
 def _plain(value: Any) -> Any:

@@ -1,0 +1,44 @@
+"""``evoplan evaluate ... --out DIR [--post NAME]``: the plan's criteria, APT, zone map and NC program."""
+
+import json
+from pathlib import Path
+
+import numpy as np
+
+from evoplan.cli import main
+from evoplan.problems.toolpath.export.apt_read import read_apt
+from evoplan.problems.toolpath.export.kinematics import Kinematics, Rotary
+from evoplan.problems.toolpath.export.posts import POSTS, Machine
+from evoplan.problems.toolpath.export.safety import check_program
+
+RUN = Path(__file__).resolve().parents[3] / "runs" / "fountas_toolpath_vega.yaml"
+SETS = ["--set", "tool=8", "--set", "stepover=30", "--set", "lead=1", "--set", "tilt=0.5", "--set", "step=8"]
+
+
+def test_a_plan_exported_with_its_nc_program(tmp_path, capsys):
+    out = tmp_path / "ev"
+    assert main(["evaluate", str(RUN), *SETS, "--out", str(out), "--post", "fanuc"]) == 0
+    printed = json.loads(capsys.readouterr().out)
+    assert {p.name for p in out.iterdir()} == {"criteria.json", "toolpath.apt", "zone_map.png", "cc_pattern.png",
+                                               "program.nc"}
+    assert json.loads((out / "criteria.json").read_text()) == printed
+    apt = read_apt(out / "toolpath.apt")
+    kin = Kinematics("table_table", Rotary("A", "x", (-30, 110)), Rotary("C", "z", (-360, 360)))
+    post = POSTS["fanuc"](Machine(kin))
+    text = (out / "program.nc").read_text()
+    moves = post.read(text)
+    tips = moves.tip[np.isfinite(moves.tip).all(axis=1)]
+    # every APT cutting point is a point of the program
+    cut = apt.tip[~apt.rapid]
+    d = np.abs(tips[None, :, :] - cut[:: max(1, len(cut) // 50), None, :]).max(axis=2).min(axis=1)
+    assert d.max() < 2e-3
+    assert check_program(post, text, tips[:, 2].max() - 1e-6).ok
+
+
+def test_a_three_axis_post_for_a_five_axis_plan_writes_nothing(tmp_path, capsys):
+    out = tmp_path / "ev"
+    assert main(["evaluate", str(RUN), *SETS, "--out", str(out), "--post", "iso"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "3-axis post" in err[0] and not out.exists()
+    assert main(["evaluate", str(RUN), *SETS, "--out", str(out), "--post", "okuma"]) == 2
+    assert "unknown post" in capsys.readouterr().err and not out.exists()
