@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -127,3 +129,15 @@ def test_bad_weights_are_refused_in_one_line_naming_the_key(case):
     with pytest.raises(ValueError) as err:
         parse_surface(bad_spec(case))
     assert str(err.value).startswith(BAD_WEIGHTS[case][1]) and "\n" not in str(err.value)
+
+
+def test_the_shipped_nurbs_run_machines_an_exact_cylinder():
+    import yaml
+
+    root = Path(__file__).resolve().parents[3]
+    cfg = yaml.safe_load((root / "runs" / "nurbs_cylinder_vega.yaml").read_text())
+    surf = parse_surface(cfg["problem"]["params"]["surface"])
+    u, v = grid()
+    ref = parse_surface(cylinder_spec(40.0, 60.0))
+    assert np.abs(surf.points(u, v) - ref.points(u, v)).max() < 1e-9
+    assert surf.normal_sign == ref.normal_sign
