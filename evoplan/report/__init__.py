@@ -6,6 +6,9 @@ named in ``config.yaml`` is never imported or built (see :mod:`evoplan.run_folde
 
 - :mod:`.folder`: which kind of folder it is, and its files read with one-line errors.
 - :mod:`.run`: a run's convergence, best decisions with units, and toolpath in 3D.
+- :mod:`.study`: per-variant boxes of the final values, the summary and tests tables.
+- :mod:`.simulate`: ``simulation.json``'s measures with units, the scallop distribution, the
+  deviation PNGs embedded.
 - :mod:`.page`: the sections assembled into one HTML file.
 """
 

@@ -1,0 +1,62 @@
+"""``evoplan report`` on a study folder and a simulate folder (hand-written files: data only)."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from evoplan.cli import main
+from tests.report.test_report import figures, values
+
+pytest.importorskip("plotly")
+
+RUNS = """key,algorithm,problem,dimension,factor,level,repetition,seed,status,final_best
+k.ga.r0,ga,kubota,2,,,0,11,ok,0.25
+k.ga.r1,ga,kubota,2,,,1,12,ok,0.5
+k.vega.r0,vega,kubota,2,,,0,11,ok,0.125
+k.vega.r1,vega,kubota,2,,,1,12,failed,
+k.ga.r0,ga,sphere,3,,,0,11,ok,2.0
+"""
+SUMMARY = """problem,dimension,algorithm,factor,level,runs,failed,median,best,worst,mean_rank
+kubota,2,ga,,,2,0,0.375,0.25,0.5,1.5
+kubota,2,vega,,,2,1,0.125,0.125,0.125,1.5
+"""
+
+
+def test_study_report_boxes_per_variant_and_summary(tmp_path, capsys):
+    (tmp_path / "runs.csv").write_text(RUNS)
+    (tmp_path / "summary.csv").write_text(SUMMARY)
+    assert main(["report", str(tmp_path)]) == 0
+    html = (tmp_path / "report.html").read_text()
+    kubota, sphere = figures(html)
+    boxes = {t["name"]: values(t["y"]) for t in kubota}
+    assert boxes == {"ga": [0.25, 0.5], "vega": [0.125]}  # the failed run is not drawn
+    assert "1 run(s) failed" in html
+    assert [t["name"] for t in sphere] == ["ga"]
+    assert "<td>vega</td>" in html and '<td class="num">0.375</td>' in html
+
+
+def test_simulate_report_measures_with_units_and_figures(tmp_path, capsys):
+    from PIL import Image
+
+    record = {"plan": "p", "scallop_max_mm": 0.03, "scallop_p99_mm": 0.02, "scallop_mean_mm": 0.01,
+              "gouge_max_mm": 0.0, "seconds": 1.5, "cutter": {"diameter": 12.0, "corner_radius": 0.0},
+              "zones": [{"zone": 0, "scallop_max_mm": 0.03}]}
+    (tmp_path / "simulation.json").write_text(json.dumps(record))
+    Image.new("RGB", (8, 8), "red").save(tmp_path / "deviation_map.png")
+    assert main(["report", str(tmp_path)]) == 0
+    html = (tmp_path / "report.html").read_text()
+    (bars,) = figures(html)
+    assert bars[0]["x"] == ["p99", "max", "mean"] and values(bars[0]["y"]) == [0.02, 0.03, 0.01]
+    assert "<td>scallop_max_mm</td><td class=\"num\">0.03</td><td>mm</td>" in html
+    assert "<td>cutter.diameter</td><td class=\"num\">12</td><td>mm</td>" in html
+    assert "<th>scallop_max_mm (mm)</th>" in html
+    assert 'src="data:image/png;base64,' in html
+
+
+def test_bad_simulation_json_is_one_line(tmp_path, capsys):
+    (tmp_path / "simulation.json").write_text("[1, 2]")
+    assert main(["report", str(tmp_path)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "simulation.json" in err and not (tmp_path / "report.html").exists()
