@@ -52,3 +52,16 @@ def test_code_cites_only_files_in_the_repository():
                 if not (ROOT / name).is_file():
                     missing.append(f"{path.relative_to(ROOT)}: {name}")
     assert not missing, missing
+
+
+def test_every_package_folder_is_installed():
+    """A folder with an __init__.py that pyproject's package list lacks would be missing from a
+    wheel (an editable install still finds it, so only this test notices)."""
+    import tomllib
+
+    listed = set(tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["setuptools"]["packages"])
+    prefix = {"evoplan": "evoplan", "problems": "evoplan.problems", "operators": "evoplan.operators"}
+    for top, name in prefix.items():
+        for init in (ROOT / top).rglob("__init__.py"):
+            parts = init.parent.relative_to(ROOT / top).parts
+            assert ".".join((name, *parts)) in listed, init
