@@ -120,6 +120,7 @@ def add_parser(sub) -> argparse.ArgumentParser:
     p.add_argument("config", help="YAML machining file (e.g. runs/abbas_gentle.yaml)")
     p.add_argument("--out", help="results folder (default: results/<name>-<time>)")
     p.add_argument("--from-run", dest="from_run", help="a finished toolpath run: finish with its best plan")
+    p.add_argument("--quiet", action="store_true", help="no progress line")
     p.add_argument("--check", action="store_true",
                    help="read every 5-axis program back and verify the safety rules (clearance plane "
                         "for rotary turns and at the end, no table turn near the pole); exit 1 if one fails")
@@ -167,11 +168,27 @@ def main(args: argparse.Namespace) -> int:
     out = Path(args.out or Path("results") / f"{cfg.name}-{time.strftime('%Y%m%d-%H%M%S')}")
     check_out(out)
     plan = plan_from_run(Path(args.from_run)) if args.from_run else None
+    from tqdm import tqdm
+
+    bar = tqdm(total=7, desc="machine", unit="stage", disable=True if getattr(args, "quiet", False) else None,
+               bar_format="{desc}: {n}/{total} {postfix} [{elapsed}]")
+
+    started = []
+
+    def stage(name):
+        if started:
+            bar.update()
+        started.append(name)
+        bar.set_postfix_str(name)
+
     try:
         files, summary = build_operations(cfg.model_dump(), Path(args.config).resolve().parent, plan,
-                                          max_bytes=available_bytes())
+                                          max_bytes=available_bytes(), progress=stage)
+        bar.update()
     except ValueError as e:
         raise ConfigError(f"{args.config}: {e}") from None
+    finally:
+        bar.close()
     if args.check:
         failed = {op: s["safety"]["violations"] for op, s in summary.items()
                   if isinstance(s, dict) and s.get("safety") and s["safety"]["violations"]}

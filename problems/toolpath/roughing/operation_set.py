@@ -107,7 +107,8 @@ def _check_axes(post_cls, cfg: dict, plan) -> None:
                          "finish.source: offset")
 
 
-def build_operations(cfg: dict, base_dir=None, plan=None, max_bytes: float | None = None) -> tuple[dict[str, bytes], dict]:
+def build_operations(cfg: dict, base_dir=None, plan=None, max_bytes: float | None = None,
+                     progress=None) -> tuple[dict[str, bytes], dict]:
     """(files, summary) of the whole operation set (module docstring); sizes checked first
     against ``max_bytes`` and the ceilings of :mod:`.budget`."""
     surface = parse_surface(cfg["surface"], "surface", base_dir)
@@ -123,6 +124,8 @@ def build_operations(cfg: dict, base_dir=None, plan=None, max_bytes: float | Non
     safe_z = _clearance_plane(post_cfg["kinematics"], stock.z_top)
     post = post_cls(Machine(kin, post_cfg["work_offset"], post_cfg["program_number"], safe_z=safe_z))
     rough_tool = _tool(ro["tool"])
+    step = progress or (lambda name: None)  # called as each stage starts (a progress bar)
+    step("roughing")
     rough, stats, (floor, layers) = roughing(
         stock, ro["method"], rough_tool, d_cut=ro["max_depth"], stepover=ro["stepover"] * rough_tool.diameter,
         allowance_semi=al["semifinish"], allowance_finish=al["finish"], feed=ro["feed"],
@@ -130,9 +133,11 @@ def build_operations(cfg: dict, base_dir=None, plan=None, max_bytes: float | Non
     se = cfg["semifinish"]
     semi_tool = _tool(se["tool"])
     semi_tool.corner_radius = 0.5 * semi_tool.diameter
+    step("semi-finish")
     semi, semi_folded = ball_on_offset(surface, semi_tool, allowance=al["finish"], stepover=se["stepover"],
                                        step=se["step"], feed=se["feed"], plunge_feed=se["plunge_feed"],
                                        name="semifinish")
+    step("finish")
     fin = cfg["finish"]
     finish_info = {"source": fin["source"]}
     if fin["source"] == "plan":
@@ -151,6 +156,7 @@ def build_operations(cfg: dict, base_dir=None, plan=None, max_bytes: float | Non
                           "stock": {"z_top": stock.z_top, "x": [float(stock.grid.xs[0]), float(stock.grid.xs[-1])],
                                     "y": [float(stock.grid.ys[0]), float(stock.grid.ys[-1])], "cell": stock.grid.cell}}
     for name, tp in ops.items():
+        step(f"post {name}")
         try:
             nc = post.program(tp, name).encode()
         except ReachError as e:
@@ -170,6 +176,7 @@ def build_operations(cfg: dict, base_dir=None, plan=None, max_bytes: float | Non
     summary["roughing"].update(stats)
     summary["semifinish"]["folded_offset_points"] = semi_folded
     summary["finish"].update(finish_info)
+    step("files")
     files["surface.dxf"] = surface_dxf(surface)
     files["surface.stl"] = surface_stl(surface)
     files["toolpaths.dxf"] = toolpaths_dxf(ops)

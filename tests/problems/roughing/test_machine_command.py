@@ -171,3 +171,14 @@ def test_finish_from_a_zoned_3axis_run_is_the_runs_own_plan(tmp_path):
     cut = ~apt.rapid
     np.testing.assert_allclose(apt.tip[cut], path.tip, atol=1e-3)  # the plan's CL points, in order
     assert apt.rapid.sum() >= 3 * len(np.unique(path.section))  # every section entered and left by rapids
+
+
+def test_progress_names_every_stage_and_quiet_silences_it(tmp_path):
+    from evoplan.commands.machine import load
+    from evoplan.problems.toolpath.roughing.operation_set import build_operations
+
+    seen = []
+    build_operations(load(str(config(tmp_path))).model_dump(), tmp_path, progress=seen.append)
+    assert seen == ["roughing", "semi-finish", "finish", "post roughing", "post semifinish", "post finish", "files"]
+    proc = machine(tmp_path, config(tmp_path), "--out", tmp_path / "q", "--quiet")
+    assert proc.returncode == 0 and proc.stderr == ""
