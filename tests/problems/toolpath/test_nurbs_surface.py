@@ -15,12 +15,13 @@ R, L = 40.0, 60.0
 S = float(np.sqrt(0.5))
 
 
-def cylinder_spec(radius=R, length=L) -> dict:
-    """The top quarter of a cylinder of axis X (the arc from 45 to 135 deg): a rational
-    quadratic arc in u (its middle weight cos 45 deg) swept linearly along X in v."""
-    arc = [(radius * S, radius * S), (0.0, radius / S), (-radius * S, radius * S)]
+def cylinder_spec(radius=R, length=L, half_angle=45.0) -> dict:
+    """The top of a cylinder of axis X (the arc from 90 - a to 90 + a deg; a quarter by
+    default): a rational quadratic arc in u (its middle weight cos a) swept along X in v."""
+    c, s = float(np.cos(np.radians(half_angle))), float(np.sin(np.radians(half_angle)))
+    arc = [(radius * s, radius * c), (0.0, radius / c), (-radius * s, radius * c)]
     poles = [[[x, y, z] for x in (0.0, length)] for y, z in arc]
-    weights = [[w, w] for w in (1.0, S, 1.0)]
+    weights = [[w, w] for w in (1.0, c, 1.0)]
     return {"type": "nurbs", "degree": [2, 1], "poles": poles, "weights": weights}
 
 
@@ -141,3 +142,26 @@ def test_the_shipped_nurbs_run_machines_an_exact_cylinder():
     ref = parse_surface(cylinder_spec(40.0, 60.0))
     assert np.abs(surf.points(u, v) - ref.points(u, v)).max() < 1e-9
     assert surf.normal_sign == ref.normal_sign
+
+
+def test_a_ball_swept_over_the_nurbs_cylinder_leaves_the_circle_intersection_cusp():
+    """The cut simulation on the NURBS cylinder's design grid (0.05 mm cells): ball passes
+    along the axis, 8 deg apart, leave the cusp of two intersecting ball circles."""
+    from evoplan.problems.toolpath.clpath import CLPath
+    from evoplan.problems.toolpath.simulation import design_grid, sweep_path
+
+    rho, r, dphi, h = 30.0, 4.0, np.radians(8.0), 0.05
+    surf = parse_surface(cylinder_spec(rho, 20.0, half_angle=22.0))
+    g = design_grid(surf, h)
+    i = int(np.argmin(np.abs(g.y0 + h * np.arange(g.z.shape[0]))))  # the cell row nearest y = 0
+    y_mid = g.y0 + i * h
+    phis = np.arcsin(y_mid / rho) + dphi * (np.arange(-2, 3) + 0.5)
+    d = rho + r  # ball centres on the offset cylinder, tips r below them (vertical axis)
+    xs = np.linspace(-6.0, 26.0, 17)
+    tips = np.array([(x, d * np.sin(p), d * np.cos(p) - r) for p in phis for x in xs])
+    sec = np.repeat(np.arange(len(phis)), len(xs))
+    axes = np.tile((0.0, 0.0, 1.0), (len(tips), 1))
+    res = sweep_path(CLPath(tips, axes, 2 * r, r, section=sec), g).values
+    want = d * np.cos(dphi / 2) - np.sqrt(r * r - (d * np.sin(dphi / 2)) ** 2) - rho
+    got = res[i, 60:340]
+    assert got.max() == pytest.approx(want, rel=2e-3, abs=2e-5)
