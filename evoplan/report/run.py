@@ -13,6 +13,9 @@ from .page import Section, note, table
 #: units of the toolpath problem's decisions (problems/toolpath/genes.py)
 DECISION_UNITS = {"tool": "index in the tool list", "stepover": "% of D", "lead": "deg",
                   "tilt": "deg", "step": "mm"}
+#: paths longer than this are drawn decimated, each dropped point within DISPLAY_TOLERANCE
+DECIMATE_ABOVE = 20_000
+DISPLAY_TOLERANCE = 0.01  # mm
 #: plotly's default qualitative colours, one per section of the path (cycled)
 COLOURS = ("#636EFA", "#EF553B", "#00CC96", "#AB63FA", "#FFA15A", "#19D3F3", "#FF6692",
            "#B6E880", "#FF97FF", "#FECB52")
@@ -98,6 +101,12 @@ def toolpath(path: Path) -> list:
     except (OSError, UnicodeDecodeError) as e:
         raise ConfigError(f"{path}: unreadable ({e})") from None
     tip, rapid, section = apt.tip, np.asarray(apt.rapid, bool), np.asarray(apt.section)
+    drawn = ""
+    if len(tip) > DECIMATE_ABOVE:
+        keep = decimate(tip, rapid, section, DISPLAY_TOLERANCE)
+        tip, rapid, section = tip[keep], rapid[keep], section[keep]
+        drawn = (f" Drawn with {int(keep.sum())} of its points: every point left out lies within "
+                 f"{DISPLAY_TOLERANCE:g} mm of the drawn line.")
     fig = go.Figure()
     hover = "x %{x:.3f}<br>y %{y:.3f}<br>z %{z:.3f}<extra>%{fullData.name}</extra>"
     # cutting moves: point i joins i-1 by a feed move; a new trace per section
@@ -125,8 +134,37 @@ def toolpath(path: Path) -> list:
     tool = f"tool D{apt.diameter:g} r{apt.corner_radius:g} mm"
     text = (f"{len(apt)} points in {len(apt.sections)} sections, {int(rapid.sum())} rapid moves, "
             f"{tool}; one colour per zone/pass section (click the legend to hide one), rapids dashed, "
-            f"equal axis scales.")
+            f"equal axis scales.{drawn}")
     return [note(text), fig]
+
+
+def decimate(tip: np.ndarray, rapid: np.ndarray, section: np.ndarray, tolerance: float,
+             passes: int = 6) -> np.ndarray:
+    """Which points to draw so that every point left out lies within ``tolerance`` of the line.
+
+    Each pass looks at every other kept point whose neighbours are in its section and reached
+    by feed moves, and drops it when it lies within ``tolerance / passes`` of the segment
+    joining its kept neighbours. A dropped point's distance to the final line is at most the
+    sum of the passes' tolerances: the segment it was within lies within the next pass's
+    tolerance of the new one (the distance to a segment is convex along a segment).
+    """
+    keep = np.ones(len(tip), bool)
+    step = tolerance / passes
+    for _ in range(passes):
+        k = np.flatnonzero(keep)
+        j = np.arange(1, len(k) - 1, 2)
+        if j.size == 0:
+            break
+        a, p, b = k[j - 1], k[j], k[j + 1]
+        ok = (section[a] == section[p]) & (section[p] == section[b]) & ~rapid[p] & ~rapid[b]
+        ab = tip[b] - tip[a]
+        t = np.clip(np.einsum("ij,ij->i", tip[p] - tip[a], ab) / np.maximum(np.einsum("ij,ij->i", ab, ab), 1e-300), 0, 1)
+        dist = np.linalg.norm(tip[a] + t[:, None] * ab - tip[p], axis=1)
+        drop = p[ok & (dist < step)]
+        if drop.size == 0:
+            break
+        keep[drop] = False
+    return keep
 
 
 def _polyline(tip: np.ndarray, idx: np.ndarray, fed: np.ndarray) -> np.ndarray:

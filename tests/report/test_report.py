@@ -104,3 +104,29 @@ def test_missing_plotly_names_the_extra(kubota_run, tmp_path, capsys, monkeypatc
     assert main(["report", str(kubota_run), "--out", str(out)]) == 2
     err = capsys.readouterr().err
     assert 'pip install "evoplan[report]"' in err and not out.exists()
+
+
+def test_decimation_keeps_every_dropped_point_within_the_tolerance():
+    from evoplan.report.run import decimate
+
+    rng = np.random.default_rng(3)
+    x = np.linspace(0, 100, 5001)
+    tip = np.column_stack([x, 5 * np.sin(x / 7), 0.0003 * rng.standard_normal(x.size)])
+    rapid = np.zeros(x.size, bool)
+    rapid[2500] = True  # a rapid move into point 2500: both of its ends stay
+    section = (x > 60).astype(int)
+    keep = decimate(tip, rapid, section, 0.01)
+    assert keep.sum() < x.size / 4  # the smooth curve needs far fewer points
+    assert keep[[0, 2499, 2500, -1]].all()
+    first = np.flatnonzero(section == 1)[0]
+    assert keep[first - 1] and keep[first]  # section ends stay
+    # distance of every original point to the drawn polyline (segments of kept neighbours)
+    k = np.flatnonzero(keep)
+    seg = np.searchsorted(k, np.arange(x.size), side="right") - 1
+    seg = np.clip(seg, 0, len(k) - 2)
+    a, b = tip[k[seg]], tip[k[seg + 1]]
+    ab = b - a
+    t = np.clip(((tip - a) * ab).sum(1) / (ab * ab).sum(1), 0, 1)
+    dist = np.linalg.norm(a + t[:, None] * ab - tip, axis=1)
+    assert dist.max() <= 0.01
+    assert decimate(tip, rapid, section, 0.0).all()  # no tolerance, nothing dropped
