@@ -45,7 +45,7 @@ class AllowanceCfg(_Strict):
 
 
 class RoughCfg(_Strict):
-    method: Literal["morphing", "zlevel"] = "morphing"
+    method: Literal["morphing", "zlevel", "contour"] = "morphing"
     tool: ToolCfg = Field(default_factory=lambda: ToolCfg(number=1, diameter=12.0, spindle=6000.0))
     max_depth: float = 2.0             # D_cut, mm
     stepover: float = Field(0.6, gt=0, le=1)   # fraction of the diameter

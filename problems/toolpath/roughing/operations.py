@@ -95,8 +95,13 @@ def roughing(stock: Stock, method: str, tool: Tool, *, d_cut: float, stepover: f
     elif method == "zlevel":
         layers = z_levels(floor, stock.z_top, n)
         tp = zlevel_path(stock.grid, floor, layers, tool, stepover, d_cut=d_cut, **kw)
+    elif method == "contour":
+        from .contour import contour_path
+
+        layers = z_levels(floor, stock.z_top, n)
+        tp = contour_path(stock.grid, floor, layers, tool, stepover, **kw)
     else:
-        raise ValueError(f"roughing.method: unknown method {method!r} (known: morphing, zlevel)")
+        raise ValueError(f"roughing.method: unknown method {method!r} (known: morphing, zlevel, contour)")
     zmap = StockZMap(stock.grid, stock.z_top)
     stats = zmap.cut(tp)
     left_min, left_max = zmap.clearance_over(stock.z_surface)
