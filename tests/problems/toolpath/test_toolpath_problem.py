@@ -203,7 +203,8 @@ def test_bad_surfaces_raise_one_line_naming_the_key(tmp_path):
     assert _error(surface={"type": "bezier", "poles": bad.tolist()}).startswith(
         "surface.poles: contains NaN or infinite values (first at [1][2][0])")
     assert _error(surface={"type": "bezier", "poles": [[1, 2], [3]]}).startswith("surface.poles:")
-    assert _error(surface={"type": "nurbs"}).startswith("surface.type:")
+    assert _error(surface={"type": "nurbs"}).startswith("surface.poles: missing")
+    assert _error(surface={"type": "cone"}).startswith("surface.type:")
     assert _error(surface={"type": "bezier", "poles": "missing.json"}, base_dir=tmp_path).startswith(
         "surface.poles: file not found")
     assert _error(surface={"type": "bspline", "poles": net.tolist(), "knots_u": [0, 1]}).startswith(
