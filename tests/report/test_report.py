@@ -107,7 +107,7 @@ def test_missing_plotly_names_the_extra(kubota_run, tmp_path, capsys, monkeypatc
 
 
 def test_decimation_keeps_every_dropped_point_within_the_tolerance():
-    from evoplan.report.run import decimate
+    from evoplan.report.run import decimate, deviation
 
     rng = np.random.default_rng(3)
     x = np.linspace(0, 100, 5001)
@@ -129,4 +129,6 @@ def test_decimation_keeps_every_dropped_point_within_the_tolerance():
     t = np.clip(((tip - a) * ab).sum(1) / (ab * ab).sum(1), 0, 1)
     dist = np.linalg.norm(a + t[:, None] * ab - tip, axis=1)
     assert dist.max() <= 0.01
+    assert deviation(tip, keep) == pytest.approx(dist.max())
+    assert deviation(tip, np.ones(x.size, bool)) == 0.0
     assert decimate(tip, rapid, section, 0.0).all()  # no tolerance, nothing dropped
