@@ -27,6 +27,7 @@ from .process_pool import ProcessPool, _outcome
 
 SCHEDULER_TIMEOUT = 5.0  # seconds to reach a scheduler, and to see its first worker
 POLL = 0.01  # seconds between looks at a wave's futures
+NO_WORKERS_TIMEOUT = 60.0  # seconds a cluster may have no worker before a study gives up
 START_SLACK = 1.0  # seconds a task may take to reach a (restarted) worker, beyond its timeout
 
 
@@ -143,14 +144,36 @@ class DaskPool:
                                             silence_logs=logging.CRITICAL)  # lost workers are handled here
             self.client = Client(self.cluster, set_as_default=False)
         self.workers = worker_slots(self.client) or (workers or 1)
+        self.size = len(self.client.nthreads()) or (workers or 1)  # workers to scale a local cluster back to
 
     def submit(self, fn: Callable, *args):
         return self.client.submit(fn, *args, pure=False)
 
     def as_completed(self, futures: Iterable) -> Iterator:
-        from distributed import as_completed
-
-        return as_completed(list(futures), loop=self.client.loop)
+        """The futures as they finish. A cluster left without workers (a local one whose
+        nannies gave up restarting them) is scaled back up; still without any after
+        ``NO_WORKERS_TIMEOUT`` seconds, a one-line error instead of waiting for ever."""
+        pending, alone_since = list(futures), None
+        while pending:
+            done = [f for f in pending if f.status != "pending"]
+            for f in done:
+                pending.remove(f)
+                yield f
+            if done:
+                continue
+            if self.client.nthreads():
+                alone_since = None
+            else:
+                alone_since = alone_since or time.monotonic()
+                if self.cluster is not None:
+                    try:
+                        self.cluster.scale(self.size)
+                    except Exception:  # noqa: BLE001 - the error below says what matters
+                        pass
+                if time.monotonic() - alone_since > NO_WORKERS_TIMEOUT:
+                    raise EvoplanError(f"dask: the cluster has had no workers for {NO_WORKERS_TIMEOUT:g} s; "
+                                       "finished work is kept (run the same command again to resume)")
+            time.sleep(10 * POLL)
 
     def bind(self, obj: Callable) -> list:
         """``[obj, its scattered future]``; scattered again if a restarted worker lost every copy."""
