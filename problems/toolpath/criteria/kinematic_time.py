@@ -259,3 +259,21 @@ def kinematic_time(batch, tools, tool_index, dynamics=None) -> np.ndarray:
     dyn = dynamics or Dynamics()
     feeds = np.array([getattr(t, "feed", None) or dyn.feed for t in tools.tools], float)
     return plan_times(batch, dyn, feeds[np.asarray(tool_index, int)] if batch.n else np.zeros(0))
+
+
+def toolpath_time(tp, dyn: Dynamics | None = None) -> float:
+    """Kinematic time (min) of an NC operation (``export.toolpath.Toolpath``): its feed moves
+    as chains under the limits (plunges at the plunge feed, a feed change is a speed knot),
+    every rapid from rest to rest at ``dyn.rapid``."""
+    dyn = dyn or Dynamics()
+    rapid = np.asarray(tp.rapid, bool)
+    feed = np.where(np.asarray(tp.plunge, bool), tp.plunge_feed, tp.feed)
+    t = chain_time(tp.tip, feed, dyn, start=rapid).sum()
+    hop = np.flatnonzero(rapid[1:]) + 1
+    if len(hop):
+        pair = np.empty((2 * len(hop), 3))
+        pair[0::2], pair[1::2] = tp.tip[hop - 1], tp.tip[hop]
+        st = np.zeros(2 * len(hop), bool)
+        st[0::2] = True
+        t += chain_time(pair, dyn.rapid, dyn, start=st)[1::2].sum()
+    return float(t) / 60.0

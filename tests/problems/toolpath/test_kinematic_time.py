@@ -110,3 +110,20 @@ def test_a_tool_library_feed_drives_the_time_and_an_entry_without_one_is_refused
     tools[2]["spindle"] = 9000
     with pytest.raises(ValueError, match=r"^tools\[2\]\.feed: missing"):
         ToolpathProblem(tools=tools, **kw)
+
+
+def test_an_nc_operation_pays_its_rapids_and_plunges_at_their_rates():
+    from evoplan.problems.toolpath.criteria.kinematic_time import toolpath_time
+    from evoplan.problems.toolpath.export.toolpath import Tool, Toolpath
+
+    # rapid down 40 mm, plunge 10 mm at 600 mm/min, cut 200 mm at 5000, rapid up 50 mm
+    tp = Toolpath("op", Tool(1, 10), [[0, 0, 50], [0, 0, 10], [0, 0, 0], [200, 0, 0], [200, 0, 50]],
+                  np.tile([0, 0, 1.0], (5, 1)), [1, 1, 0, 0, 1], [0, 0, 1, 0, 0], [-1, -1, 0, 0, -1],
+                  feed=5000.0, plunge_feed=600.0)
+    R, P = 10000 / 60, 600 / 60
+    # the plunge's bottom corner (90 deg, v_c 12 mm/s) does not stop it: it ends at P, the cut starts at P
+    t1, tp1 = t_change(P), t_change(F - P)
+    plunge = t1 + (10 - P / 2 * t1) / P
+    cut = tp1 + t_change(F) + (200 - (P + F) / 2 * tp1 - F / 2 * t_change(F)) / F
+    want = (40 / R + t_change(R)) + plunge + cut + (50 / R + t_change(R))
+    assert toolpath_time(tp, Dynamics(rapid=10000.0)) * 60 == pytest.approx(want, rel=1e-9)
