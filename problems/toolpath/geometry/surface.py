@@ -26,6 +26,8 @@ from typing import NamedTuple
 
 import numpy as np
 
+from .footprint import UNIT_SQUARE, Footprint
+
 __all__ = [
     "Jet",
     "Surface",
@@ -58,6 +60,8 @@ class Surface:
     """
 
     normal_sign: float = 1.0
+    #: where the surface is material in (u, v) (``footprint.py``): the unit square unless trimmed
+    footprint: Footprint = UNIT_SQUARE
 
     def jet(self, u, v, order: int = 2) -> Jet:  # pragma: no cover - abstract
         """Derivatives up to ``order`` (0, 1 or 2) at u, v: (n,) each -> Jet of (n, 3)."""
