@@ -1,6 +1,6 @@
 """Choi's surface: every finishing strategy, single zone and zoned, judged on three grids.
 
-    python runs/reproduce/choi_strategies.py [--quick] [--out DIR] [--write-md]
+    python runs/reproduce/choi_strategies.py [--quick] [--out FILE.md | --regenerate]
 
 Choi's surface (Djebali Table 3), h_c = 0.254 mm, R = 3.175 mm, 3-axis drop-cutter
 placement, CC points at most 1 mm apart, chord tolerance 0.01 mm. Plans: the ball single
@@ -11,8 +11,8 @@ on the part), Eq. 4 total (with the runs past the edge), CC count, the simulated
 on 0.2, 0.1 and 0.05 mm grids and the verdict (``simulation.metrics.meets_h_c``: p99 < h_c,
 max <= 1.1 h_c, nothing uncut, gouge <= tolerance) on each; a verdict that changes between
 0.1 and 0.05 mm is flagged. ``--quick``: the single zones and K-means K = 3 only.
-Writes ``choi_strategies.md`` in ``--out`` (default /tmp/choi_strategies); ``--write-md``
-regenerates the committed copy beside this script.
+Writes the report to ``--out`` (default ``results/reproduce/choi_strategies.md`` under the
+current directory); ``--regenerate`` rewrites the committed copy beside this script.
 """
 
 from __future__ import annotations
@@ -31,8 +31,8 @@ from evoplan.problems.toolpath.simulation import design_grid, simulate
 from evoplan.problems.toolpath.simulation.metrics import VERDICT_GRIDS_MM, verdicts
 from evoplan.problems.toolpath.tools import parse_tools
 from evoplan.problems.toolpath.zoned import CHOI_TOOLS
+from outputs import add_report_options, resolve_report_paths  # runs/reproduce/outputs.py
 
-HERE = Path(__file__).resolve().parent
 H_C, DELTA_L, STEP, TOL, ALLOWANCE = 0.254, 40.0, 1.0, 0.01, 0.5
 PUBLISHED = "1717 mm (Choi, ball, iso-scallop), 1183 mm (Djebali, AMAS, torus r 1), " \
             "1437 mm (Herraz, K-means, torus r 1.27)"
@@ -100,17 +100,13 @@ def table(rows, quick) -> str:
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true")
-    ap.add_argument("--out", default="/tmp/choi_strategies")
-    ap.add_argument("--write-md", action="store_true",
-                    help="also regenerate the committed choi_strategies.md beside the script")
+    add_report_options(ap)
     args = ap.parse_args()
+    resolve_report_paths(args, __file__)
     text = run(args)
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
-    (out / "choi_strategies.md").write_text(text)
-    if args.write_md:
-        (HERE / "choi_strategies.md").write_text(text)
+    Path(args.out).write_text(text)
     print(text)
+    print(f"wrote {args.out}")
 
 
 if __name__ == "__main__":
