@@ -36,12 +36,21 @@ def _boundary_loops_uv(surface, n: int) -> list[np.ndarray]:
     when it has them, else the unit square's boundary, n points a side."""
     fp = getattr(surface, "footprint", None)
     loops = getattr(fp, "loops", None) if fp is not None else None
-    if loops:
-        return [np.asarray(lp, float) for lp in loops]
+    if loops:  # densified: a straight (u, v) edge is curved in XY
+        return [_densify(np.asarray(lp, float), 1.0 / n) for lp in loops]
     t = np.linspace(0.0, 1.0, n, endpoint=False)
     one, zero = np.ones_like(t), np.zeros_like(t)
     return [np.column_stack([np.concatenate([t, one, 1 - t, zero]),
                              np.concatenate([zero, t, one, 1 - t])])]
+
+
+def _densify(loop, step):
+    """The closed (u, v) polyline ``loop`` with points at most ``step`` apart."""
+    nxt = np.roll(loop, -1, axis=0)
+    k = np.maximum(np.ceil(np.linalg.norm(nxt - loop, axis=1) / step).astype(int), 1)
+    f = np.concatenate([np.arange(m) / m for m in k])
+    owner = np.repeat(np.arange(len(loop)), k)
+    return loop[owner] + f[:, None] * (nxt[owner] - loop[owner])
 
 
 def footprint_polygon(surface, n: int = 1024):

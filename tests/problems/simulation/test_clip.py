@@ -57,3 +57,15 @@ def test_meets_h_c_verdict_and_flips():
     assert v["final"] is False and v["flip"] is True and v["by_grid"][0.2][0] is True
     v = verdicts({0.2: {**good, "scallop_max_mm": 0.3}, 0.1: good, 0.05: good}, 0.254, 0.01)
     assert v["final"] is True and v["flip"] is False
+
+
+def test_clipped_areas_follow_a_curved_footprint():
+    # x = 30 u + 9 v^2, y = 20 v + 6 u^2, z = 3 u + 2 v: the (u, v) square's edges are
+    # parabolas in XY, so a footprint of the square's corners alone would be wrong
+    coeffs = np.zeros((3, 3, 3))
+    coeffs[1, 0] = (30.0, 0.0, 3.0)
+    coeffs[0, 1] = (0.0, 20.0, 2.0)
+    coeffs[0, 2, 0], coeffs[2, 0, 1] = 9.0, 6.0
+    surface = PolynomialSurface(coeffs)
+    grid = design_grid(surface, 0.25)
+    assert abs(grid.cell_area().sum() / _gauss_area(surface) - 1) < 1e-4
