@@ -29,6 +29,7 @@ SCHEDULER_TIMEOUT = 5.0  # seconds to reach a scheduler, and to see its first wo
 POLL = 0.01  # seconds between looks at a wave's futures
 NO_WORKERS_TIMEOUT = 60.0  # seconds a cluster may have no worker before a study gives up
 START_SLACK = 1.0  # seconds a task may take to reach a (restarted) worker, beyond its timeout
+SCATTER_TRIES = 5  # broadcasts tried while workers are being replaced, before sending to one worker
 
 
 class _Done:
@@ -177,7 +178,18 @@ class DaskPool:
 
     def bind(self, obj: Callable) -> list:
         """``[obj, its scattered future]``; scattered again if a restarted worker lost every copy."""
-        return [obj, self.client.scatter(obj, broadcast=True, hash=False)]
+        return [obj, self._scatter(obj)]
+
+    def _scatter(self, obj: Callable):
+        """``obj`` sent to the workers. Broadcasting races with a worker that is dying or being
+        replaced (distributed then raises "Can not use replicate to delete data" or a closed
+        comm); it is tried again, and last sent to one worker, from which the others fetch it."""
+        for attempt in range(SCATTER_TRIES):
+            try:
+                return self.client.scatter(obj, broadcast=True, hash=False)
+            except (ValueError, OSError, RuntimeError):  # CommClosedError is an OSError
+                time.sleep(POLL * (attempt + 1))
+        return self.client.scatter(obj, broadcast=False, hash=False)
 
     def call(self, handle: list, chunks: list) -> list:
         """One outcome per chunk (its result, or the exception it ended with), in waves of at
@@ -189,7 +201,7 @@ class DaskPool:
         for lo in range(0, len(chunks), max(self.workers, 1)):
             wave = chunks[lo:lo + max(self.workers, 1)]
             if handle[1].status != "finished":  # workers restarted (a timeout, a dead worker)
-                handle[1] = self.client.scatter(handle[0], broadcast=True, hash=False)
+                handle[1] = self._scatter(handle[0])
             futures = self.client.map(_call, [handle[1]] * len(wave), wave, pure=False)
             limit = None if self.timeout is None else self.timeout * max(len(c) for c in wave) + START_SLACK
             _wait(futures, limit)
