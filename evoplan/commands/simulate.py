@@ -187,5 +187,19 @@ def _measure(args: argparse.Namespace, stages) -> tuple[dict, dict[str, bytes]]:
                                                title=title),
         "deviation_hist.png": deviation_hist_png(grid, sim.residual.values, tolerance=tolerance,
                                                  allowance=args.allowance),
+        "deviation.npz": _deviation_npz(grid, sim, path, tolerance, args.allowance),
     }
     return record, files
+
+
+def _deviation_npz(grid, sim, path, tolerance: float, allowance: float) -> bytes:
+    """The deviation map as data for ``evoplan report`` (float32 heights and deviations, compressed)."""
+    import io
+
+    buf = io.BytesIO()
+    labels = sim.labels if sim.labels is not None else np.zeros(grid.shape, np.int16)
+    np.savez_compressed(buf, x0=grid.x0, y0=grid.y0, h=grid.h, z=grid.z.astype(np.float32),
+                        inside=grid.inside, residual=sim.residual.values.astype(np.float32),
+                        labels=np.asarray(labels, np.int16), tolerance=tolerance, allowance=allowance,
+                        tip=path.tip, axis=path.axis, section=path.section, zone=path.zone)
+    return buf.getvalue()

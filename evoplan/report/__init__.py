@@ -9,6 +9,11 @@ named in ``config.yaml`` is never imported or built (see :mod:`evoplan.run_folde
 - :mod:`.study`: per-variant boxes of the final values, the summary and tests tables.
 - :mod:`.simulate`: ``simulation.json``'s measures with units, the scallop distribution, the
   deviation PNGs embedded.
+- :mod:`.machine`: an ``evoplan machine`` folder's operations, every path in 3D over
+  ``surface.stl`` and the roughing layers (:mod:`.paths` reads the APT files, decimated for
+  display by :mod:`.decimate` within a stated tolerance).
+- :mod:`.deviation`, :mod:`.pareto`, :mod:`.studyfigs`: the deviation map in 3D and plan, the
+  Pareto front with hover, a study's ECDFs and critical-difference diagrams.
 - :mod:`.page`: the sections assembled into one HTML file.
 """
 
@@ -29,6 +34,8 @@ def build(path: str | Path) -> str:
         from .run import sections
     elif kind == "study":
         from .study import sections
+    elif kind == "machine":
+        from .machine import sections
     else:
         from .simulate import sections
     return page(f"evoplan {kind}: {folder.resolve().name}", sections(folder))

@@ -8,13 +8,13 @@ from pathlib import Path
 from ..errors import ConfigError
 
 #: the file that makes a folder of each kind (checked in this order)
-MARKERS = {"run": "history.csv", "study": "runs.csv", "simulate": "simulation.json"}
+MARKERS = {"run": "history.csv", "study": "runs.csv", "simulate": "simulation.json", "machine": "summary.json"}
 
 
 def kind_of(folder: Path) -> str:
     """``"run"``, ``"study"`` or ``"simulate"``; ``ConfigError`` when ``folder`` is none of them."""
     if not folder.is_dir():
-        raise ConfigError(f"{folder}: not a folder (give a run, study or simulate results folder)")
+        raise ConfigError(f"{folder}: not a folder (give a run, study, simulate or machine results folder)")
     for kind, name in MARKERS.items():
         if (folder / name).is_file():
             return kind

@@ -27,6 +27,14 @@ def sections(folder: Path) -> list[Section]:
         out.append(Section("Best solution", [best_table(folder / "best.json")]))
     if (folder / "toolpath.apt").is_file():
         out.append(Section("Toolpath (toolpath.apt)", toolpath(folder / "toolpath.apt")))
+    if (folder / "pareto.csv").is_file():
+        from .pareto import pareto_figure
+
+        fig = pareto_figure(read_csv(folder / "pareto.csv"))
+        if fig is not None:
+            out.append(Section("Pareto front (pareto.csv)", [fig, note(
+                "Objectives normalized with the bounds fixed at construction; hover a point for its decisions "
+                "and criteria with units; the star is the point of lowest Eq. 9 weighted sum.")]))
     return out
 
 

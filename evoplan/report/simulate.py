@@ -61,4 +61,9 @@ def sections(folder: Path) -> list[Section]:
             items.append(f'<p><img alt="{name}" style="max-width:100%" '
                          f'src="data:image/png;base64,{data}"></p>')
         out.append(Section("Deviation figures", items))
+    if (folder / "deviation.npz").is_file():
+        from .deviation import deviation_figures, read_npz
+
+        f3, f2, cap = deviation_figures(read_npz(folder / "deviation.npz"))
+        out.insert(1, Section("Deviation map (deviation.npz)", [f3, note(cap), f2]))
     return out

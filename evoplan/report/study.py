@@ -61,6 +61,30 @@ def sections(folder: Path) -> list[Section]:
                 if c in t and t[c].notna().any()]
         out.append(Section("Tests against the reference (tests.csv)",
                            [table(cols, [[_value(r[c]) for c in cols] for _, r in t.iterrows()])]))
+    out.extend(_ecdf_and_cd(folder))
+    return out
+
+
+def _ecdf_and_cd(folder: Path) -> list[Section]:
+    """The fixed-target ECDFs and the critical-difference diagrams (``studyfigs.py``)."""
+    from .studyfigs import cd_figure, ecdf_figure, variant_colours, variant_of
+
+    runs = read_csv(folder / "runs.csv")
+    if not {"key", "optimum", "budget", "evaluations"} <= set(runs.columns):  # not the runner's runs.csv
+        return []
+    for col in ("factor", "level"):
+        runs[col] = runs[col].fillna("") if col in runs else ""
+    runs["variant"] = variant_of(runs)
+    colours = variant_colours(runs["variant"])
+    out = [Section("Fixed-target ECDF", [ecdf_figure(runs, folder, colours), note(
+        "Share of (run, target) pairs reached within the evaluations, 51 targets f_ref + 10^k; f_ref is the "
+        "known optimum, else the best value any run found; runtimes at evaluation granularity (traces/).")])]
+    if (folder / "nemenyi.csv").is_file():
+        nem = read_csv(folder / "nemenyi.csv")
+        nem["factor"] = nem["factor"].fillna("")
+        out.append(Section("Critical-difference diagram", [cd_figure(nem, colours), note(
+            "Mean ranks over the repetitions; colours are the variants' (the same in every figure), not their "
+            "ranks.")]))
     return out
 
 

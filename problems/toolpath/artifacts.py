@@ -6,7 +6,10 @@ borders and the sections actually cut (the CC points of each section joined in m
 order), each zone labelled with its feed direction and cutting length; the CC pattern
 (``figures.cc_pattern_png``) colours the CC points by zone, or by chord error for one zone (5-axis);
 the APT program (``export.apt_write.apt_toolpath``) opens each section with a
-``$$ ZONE z PASS k`` comment, entered from and left to the safe height.
+``$$ ZONE z PASS k`` comment, entered from and left to the safe height. ``toolpath.npz`` holds
+what ``evoplan report`` draws beside the APT program's moves: the CC points with their zone and
+pass, the part sampled on a (u, v) grid, the tolerance and the plan's analytic criteria (names
+and values; the units are the criteria table's).
 """
 
 from __future__ import annotations
@@ -18,7 +21,9 @@ import numpy as np
 
 from .criteria.analytic import eq4_total, plan_lengths
 
-__all__ = ["plan_artifacts", "zone_map_png"]
+__all__ = ["plan_artifacts", "zone_map_png", "report_data"]
+
+REPORT_MESH = 61  # (u, v) samples per side of the part in toolpath.npz
 
 
 def _title(problem, genes, batch) -> str:
@@ -85,6 +90,22 @@ def zone_map_png(surface, batch, labels, title: str = "") -> bytes:
     return buf.getvalue()
 
 
+def report_data(problem, batch, genes, path) -> bytes:
+    """``toolpath.npz`` (see the module docstring): data only, read back with ``allow_pickle=False``."""
+    from .criteria.analytic import analytic_criteria
+
+    crit = analytic_criteria(batch, problem.surface, problem.tool_db, genes, allowance=problem.allowance,
+                             feed_rate=problem.feed_rate, delta_l=problem.delta_l, machine=problem.machine)
+    u, v = np.meshgrid(np.linspace(0, 1, REPORT_MESH), np.linspace(0, 1, REPORT_MESH), indexing="ij")
+    mesh = problem.surface.points(u.ravel(), v.ravel()).reshape(REPORT_MESH, REPORT_MESH, 3)
+    names = sorted(crit)
+    buf = io.BytesIO()
+    np.savez_compressed(buf, cc=np.asarray(path.info["cc"], float), zone=path.zone, pass_index=path.pass_index,
+                        surface=mesh, tolerance=float(problem.tolerance),
+                        criteria_names=np.array(names), criteria_values=np.array([float(crit[k][0]) for k in names]))
+    return buf.getvalue()
+
+
 def plan_artifacts(problem, batch, genes, path) -> dict[str, bytes]:
     """``zone_map.png``, ``cc_pattern.png`` and ``toolpath.apt`` of plan 0 of ``batch``
     (``path``: its CLPath as the machine runs it); the title's lengths are the plan's own."""
@@ -114,4 +135,5 @@ def plan_artifacts(problem, batch, genes, path) -> dict[str, bytes]:
                                          color=color, color_label=label,
                                          categories=categories),
         "toolpath.apt": apt_toolpath(tp, part="EVOPLAN TOOLPATH").encode(),
+        "toolpath.npz": report_data(problem, batch, genes, path),
     }

@@ -19,7 +19,7 @@ def test_a_plan_exported_with_its_nc_program(tmp_path, capsys):
     out = tmp_path / "ev"
     assert main(["evaluate", str(RUN), *SETS, "--out", str(out), "--post", "fanuc"]) == 0
     printed = json.loads(capsys.readouterr().out)
-    assert {p.name for p in out.iterdir()} == {"criteria.json", "toolpath.apt", "zone_map.png", "cc_pattern.png",
+    assert {p.name for p in out.iterdir()} == {"criteria.json", "toolpath.apt", "toolpath.npz", "zone_map.png", "cc_pattern.png",
                                                "program.nc"}
     assert json.loads((out / "criteria.json").read_text()) == printed
     apt = read_apt(out / "toolpath.apt")

@@ -37,8 +37,10 @@ def test_a_parameter_set_writes_the_record_and_figures(by_set):
     out, rec = by_set
     for key in KEYS:
         assert key in rec
-    assert sorted(p.name for p in out.iterdir()) == ["deviation_hist.png", "deviation_map.png",
+    assert sorted(p.name for p in out.iterdir()) == ["deviation.npz", "deviation_hist.png", "deviation_map.png",
                                                      "simulation.json"]
+    with np.load(out / "deviation.npz", allow_pickle=False) as d:   # the report's data: the map itself
+        assert d["residual"].shape == d["z"].shape == d["inside"].shape and float(d["h"]) == 0.5
     assert rec["grid_mm"] == 0.5 and rec["cl_points"] > 100
     assert 0 < rec["scallop_mean_mm"] <= rec["scallop_p99_mm"] <= rec["scallop_max_mm"]
 

@@ -1,0 +1,32 @@
+"""Units of what a report shows: the toolpath genes (``problems/toolpath/genes.py``'s table)
+and the criteria (the criteria table's ``unit``), so every decision and criterion is labelled."""
+
+from __future__ import annotations
+
+GENE_UNITS = {
+    "tool": "tool id",
+    "stepover": "% of D",
+    "lead": "deg",
+    "tilt": "deg",
+    "step": "mm",
+    "zones": "zones",
+    "k_lz": "",
+    "feed_angle": "deg",
+    "h_c": "mm",
+}
+
+
+def criterion_unit(name: str) -> str:
+    """The unit of a toolpath criterion (``F_`` prefix and objective normalized: no unit)."""
+    from ..problems.toolpath.criteria.table import CRITERIA, canonical
+
+    if name.startswith("F_") or name in ("weighted_sum", "objective"):
+        return "normalized"
+    try:
+        return CRITERIA[canonical(name)].unit
+    except (KeyError, ValueError):
+        return ""
+
+
+def labelled(name: str, unit: str) -> str:
+    return f"{name} ({unit})" if unit else name
