@@ -202,8 +202,8 @@ def factor_generations(runs: pd.DataFrame, history: History, f_ref: pd.Series) -
             frames = [history(k) for k in lrows["key"]]
             n = max((len(f) for f in frames), default=0)
             curves = np.full((len(frames), n), np.nan)
-            for i, f in enumerate(frames):
-                curves[i, : len(f)] = f["best"].to_numpy(dtype=float)
+            for j, f in enumerate(frames):
+                curves[j, : len(f)] = f["best"].to_numpy(dtype=float)
             med, q1, q3 = band(_precision(curves, ref))
             style = variant_style(i)
             ax.plot(np.arange(n), med, lw=1.6, label=f"{factor}={level}", markevery=max(1, n // 8), ms=4, **style)
