@@ -1,6 +1,6 @@
 """Abbas' roughing comparison: morphing intermediate layers vs z-level, on the three run files.
 
-    python runs/reproduce/abbas_roughing.py [--out FILE.md | --regenerate]
+    python runs/reproduce/abbas_roughing.py [--out PATH | --regenerate]
 
 For each of runs/abbas_gentle.yaml, abbas_narrow_z.yaml and abbas_wide_z.yaml: the same flat
 end mill, max depth of cut D_cut, step-over, feeds, allowances and block stock (top =

@@ -1,6 +1,6 @@
 """Choi's surface: every finishing strategy, single zone and zoned, judged on three grids.
 
-    python runs/reproduce/choi_strategies.py [--quick] [--out FILE.md | --regenerate]
+    python runs/reproduce/choi_strategies.py [--quick] [--out PATH | --regenerate]
 
 Choi's surface (Djebali Table 3), h_c = 0.254 mm, R = 3.175 mm, 3-axis drop-cutter
 placement, CC points at most 1 mm apart, chord tolerance 0.01 mm. Plans: the ball single

@@ -1,6 +1,6 @@
 """Choi's surface by zones: single zone, K-means (K = 2..6) and AMAS, against the papers.
 
-    python runs/reproduce/choi_zoning.py [--out FILE.md | --regenerate]
+    python runs/reproduce/choi_zoning.py [--out PATH | --regenerate]
 
 Choi's surface (Djebali Table 3), R = 3.175 mm, h_c = 0.254 mm, Delta L = 40 mm, 70 x 70
 mesh, AMAS k_CMD = 1, k_LZ = 0.15. Lengths are Djebali Eq. 4 (cutting + (|Z| - 1) Delta L).

@@ -2,7 +2,7 @@
 
     python runs/reproduce/fountas_table2.py [--config runs/fountas_toolpath_vega.yaml]
         [--zoned runs/fountas_toolpath_zoned_vega.yaml] [--grid 0.1] [--quick]
-        [--out FILE.md] [--png FILE.png] [--regenerate]
+        [--out PATH] [--png FILE.png] [--regenerate]
 
 1. The two published parameter sets (Table 2's GA and VEGA rows) evaluated by
    ``problem: toolpath`` of ``--config`` (5-axis, one zone fed along X): CC count, chord

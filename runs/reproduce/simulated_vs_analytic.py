@@ -2,7 +2,7 @@
 cheap model ranks plans the way the simulation does.
 
     python runs/reproduce/simulated_vs_analytic.py [--grid 0.1] [--rank-grid 0.25]
-        [--samples 40] [--out FILE.md | --regenerate]
+        [--samples 40] [--out PATH | --regenerate]
 
 Cases: a plane, a convex and a concave cylinder (radius 40 mm, feed along the axis: the
 curvature is across the feed), Fountas' Table 2 sets, and Choi's surface machined in one

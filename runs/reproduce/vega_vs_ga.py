@@ -13,7 +13,7 @@ For each: per variant the median, quartiles and best final value (Δf where the 
 known), evaluations and cache hits; the Wilcoxon signed-rank tests against the reference
 with Holm's correction; the Friedman test; the Bayesian signed-rank probabilities.
 
-    python runs/reproduce/vega_vs_ga.py [--studies results/reproduce] [--out FILE.md | --regenerate] [--toolpath-seeds 30] [--table1]
+    python runs/reproduce/vega_vs_ga.py [--studies results/reproduce] [--out PATH | --regenerate] [--toolpath-seeds 30] [--table1]
                                         [--backend processes --workers 2]
 
 Writes ``runs/reproduce/vega_vs_ga.md`` (what it prints).
