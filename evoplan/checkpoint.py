@@ -292,7 +292,7 @@ PER_GENERATION = 8  # evaluations per host (and virus) and generation that no al
 
 def check_counters(state, termination) -> None:
     """The loaded counters of ``state`` are what a run under ``termination`` can have reached:
-    non-negative, failures and cache hits within the evaluations, at most ``generations``
+    non-negative (the generation -1 before the initial population is evaluated), failures and cache hits within the evaluations, at most ``generations``
     generations, and evaluations within twice the budget (a generation may overshoot it, never
     double it). A crafted checkpoint with 1e30 evaluations is refused here, before any of it
     reaches ``best.json``."""
@@ -300,7 +300,8 @@ def check_counters(state, termination) -> None:
     counts = {"evaluations": state.evaluations, "failures": state.failures, "cache_hits": state.cache_hits,
               "stalled": state.stalled, "generation": generation}
     for name, value in counts.items():
-        if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not 0 <= value < COUNT_LIMIT:
+        low = -1 if name == "generation" else 0  # generation -1: the initial population is still being evaluated
+        if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not low <= value < COUNT_LIMIT:
             raise CheckpointError(f"state.{name}: {str(value)[:30]} is not a count a run can reach")
     if state.failures > state.evaluations:
         raise CheckpointError(f"state.failures: {state.failures} failures in {state.evaluations} evaluations")

@@ -98,8 +98,18 @@ def test_a_wrong_objective_shape_stops_at_the_first_batch(tmp_path, capsys, back
     assert not out.exists()
 
 
+def _checkpoint_stamp(folder: Path):
+    try:
+        return (folder / "checkpoint.npz").stat().st_mtime_ns
+    except FileNotFoundError:
+        return None
+
+
 def test_kills_at_random_points_resume_to_the_uninterrupted_result(tmp_path):
-    """SIGKILL at random points (the first one before any checkpoint exists), then finish."""
+    """SIGKILL at random points (the first one before any checkpoint exists), then finish.
+
+    Each later kill waits until that process has written a checkpoint of its own, then a random
+    part of a generation more: every kill lands mid-run however slow or fast the host is."""
     cfg = run_file(tmp_path, "tests.hardening.objectives:Slow", generations=40, name="slow")
     cfg.write_text(cfg.read_text().replace("bits: 10}", "bits: 10, params: {delay: 0.05}}"))
     fresh = evoplan("run", cfg, "--out", tmp_path / "fresh", "--quiet")
@@ -107,10 +117,18 @@ def test_kills_at_random_points_resume_to_the_uninterrupted_result(tmp_path):
     killed = tmp_path / "killed"
     rng = np.random.default_rng(14)
     kills = 0
-    for delay in [0.3, *rng.uniform(1.0, 2.5, 3)]:
-        resume = (killed / "checkpoint.npz").exists()
+    # the second kill lands as soon as the first checkpoint exists (VEGA's, at generation -1)
+    for i, extra in enumerate([0.0, 0.0, *rng.uniform(0.0, 0.1, 2)]):
+        before = _checkpoint_stamp(killed)
+        resume = before is not None
         proc = evoplan("run", cfg, *(["--resume", killed] if resume else ["--out", killed]), "--quiet", wait=False)
-        time.sleep(delay)
+        if i == 0:
+            time.sleep(0.3)  # still importing: no checkpoint yet
+        else:
+            deadline = time.monotonic() + 60
+            while _checkpoint_stamp(killed) == before and proc.poll() is None and time.monotonic() < deadline:
+                time.sleep(0.01)
+            time.sleep(extra)
         proc.send_signal(signal.SIGKILL)
         kills += proc.wait() == -signal.SIGKILL
     resume = (killed / "checkpoint.npz").exists()
@@ -120,7 +138,7 @@ def test_kills_at_random_points_resume_to_the_uninterrupted_result(tmp_path):
     h2, b2 = comparable(tmp_path / "fresh")
     pd.testing.assert_frame_equal(h1, h2)
     assert b1 == b2
-    assert kills >= 2
+    assert kills == 4
     assert not list(killed.glob(".*.tmp"))
 
 
