@@ -87,8 +87,10 @@ def analyze(study: StudyConfig, folder: StudyFolder, records: list[dict[str, Any
 
     if study.output.ioh and len(ok_runs):
         from .ioh_export import export
+        from .ioh_ids import functions
 
-        export(folder.out, runs, folder.trace, known)
+        ids = functions((spec.label or spec.name, spec.name, spec.params) for spec in study.problems)
+        export(folder.out, runs, folder.trace, known, ids)
     names = []
     if study.output.plots and len(ok_runs):
         from . import figures

@@ -36,8 +36,8 @@ METHOD = """\
   is the known optimum, else the best value any run found. A runtime is the index of the first
   evaluation that reached the target (the engine records every improvement), not the end of
   its generation.
-- **Export.** Every run is in `ioh/` in IOHprofiler format (`.info` and `.dat` files) for
-  IOHanalyzer.
+- **Export.** Every run is in `ioh/` in IOHprofiler's JSON format (IOHanalyzer, iohinspector),
+  BBOB with its function and instance ids, counts capped at the budget.
 - **Adapters depart from their libraries here.** pymoo's CMA-ES is restarted (IPOP, then
   further restarts) until the budget is spent instead of stopping on its own tolerances;
   pymoo's GA runs with duplicate elimination off (pymoo's default is on); DE with a variant

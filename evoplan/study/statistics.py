@@ -17,7 +17,7 @@ more than 13 pairs, or beyond 50 pairs, it is the normal approximation. ``test: 
 instead (``scipy.stats.mannwhitneyu``), which ignores the pairing. The effect size is the
 rank-biserial correlation (paired or unpaired form); its sign gives the direction of a
 significant difference (the median difference is often 0 when most runs reach the same value). p-values are adjusted with
-Holm's step-down method within each family: the comparisons against one reference on one
+Holm's step-down method (statsmodels) within each family: the comparisons against one reference on one
 problem and dimension (for a factor study: the levels of one factor against its base level).
 """
 
@@ -28,20 +28,21 @@ from math import comb
 import numpy as np
 import pandas as pd
 from scipy import stats
+from statsmodels.stats.multitest import multipletests
 
 BLOCK = ["problem", "dimension"]
 VARIANT = ["algorithm", "factor", "level"]
 
 
 def holm(p: np.ndarray) -> np.ndarray:
-    """Holm's step-down adjustment: sort the m p-values, multiply the k-th smallest (k from 0) by
-    m - k, take the running maximum, cap at 1. NaN stays NaN and does not count in m."""
+    """Holm's step-down adjustment (``statsmodels.stats.multitest.multipletests``, ``holm``):
+    the k-th smallest of m p-values (k from 0) times m - k, running maximum, capped at 1.
+    NaN stays NaN and does not count in m."""
     p = np.asarray(p, dtype=float)
     out = np.full(p.shape, np.nan)
-    ok = np.flatnonzero(np.isfinite(p))
-    order = ok[np.argsort(p[ok], kind="stable")]
-    m = order.size
-    out[order] = np.minimum(1.0, np.maximum.accumulate((m - np.arange(m)) * p[order]))
+    ok = np.isfinite(p)
+    if ok.any():
+        out[ok] = multipletests(p[ok], method="holm")[1]
     return out
 
 

@@ -3,13 +3,15 @@ test, Δf for BBOB, and the IOHprofiler export read back."""
 
 from __future__ import annotations
 
+import json
+
 import numpy as np
 import pandas as pd
 import pytest
 
 from evoplan.study.config import load_study
 from evoplan.study.curves import runtimes, step_history
-from evoplan.study.ioh_export import read_dat, read_info
+from evoplan.study.ioh_ids import functions
 from evoplan.study.ranking import bayesian, friedman
 from evoplan.study.report import power_warnings
 from evoplan.study.runner import run_study
@@ -90,16 +92,21 @@ def test_a_small_study_has_its_cd_diagram_delta_f_warning_and_ioh_files(tmp_path
     bbob = runs[runs["problem"] == "bbob-f1"]
     assert (bbob["final_best"] > bbob["optimum"]).all() and abs(bbob["optimum"].iloc[0]) > 1
     assert f"| {summary[summary['problem'] == 'bbob-f1']['best'].min() - bbob['optimum'].iloc[0]:.3g} |" in report
-    for variant, problem, fid in (("ga", "kubota", 1), ("vega_kubota", "bbob-f1", 2)):
+    ids = functions([("kubota", "kubota", {}), ("bbob-f1", "bbob-f1", {})])
+    for variant, problem in (("ga", "kubota"), ("vega_kubota", "bbob-f1")):
+        fn = ids[problem]
         folder = out / "ioh" / variant
-        (section,) = read_info(folder / f"IOHprofiler_f{fid}_{problem}.info")
-        assert section["algId"] == variant and section["DIM"] == "2" and section["funcId"] == str(fid)
-        blocks = read_dat(folder / section["file"])
+        meta = json.loads((folder / f"IOHprofiler_f{fn.id}_{fn.name}.json").read_text())
+        assert (meta["algorithm"]["name"], meta["function_id"], meta["suite"]) == (variant, fn.id, fn.suite)
+        (scenario,) = meta["scenarios"]
+        assert scenario["dimension"] == 2 and len(scenario["runs"]) == 3
+        blocks = (folder / scenario["path"]).read_text().split("evaluations raw_y\n")[1:]
         mine = runs[(runs["algorithm"] == variant) & (runs["problem"] == problem)].sort_values("repetition")
-        assert len(blocks) == len(section["runs"]) == 3
-        for block, (_, evals, best), run in zip(blocks, section["runs"], mine.itertuples()):
+        for text, entry, run in zip(blocks, scenario["runs"], mine.itertuples()):
+            block = np.loadtxt(text.splitlines(), ndmin=2)
             trace = pd.read_csv(out / "traces" / f"{run.key}.csv")
-            assert block["evaluation"].iloc[-1] == evals == run.evaluations
-            assert block["evaluation"].tolist()[: len(trace)] == trace["evaluation"].tolist()
-            assert block["best"].is_monotonic_decreasing
-            assert best == pytest.approx(run.best_overall - run.optimum, rel=1e-5, abs=1e-12)
+            inside = trace[trace["evaluation"] <= 150]
+            assert block[-1, 0] == entry["evals"] == min(run.evaluations, 150)  # capped at the budget
+            assert block[: len(inside), 0].tolist() == inside["evaluation"].tolist()
+            assert np.all(np.diff(block[:, 1]) <= 0)
+            assert entry["best"]["y"] == pytest.approx(run.final_best - run.optimum, rel=1e-12, abs=1e-12)
