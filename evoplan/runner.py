@@ -29,6 +29,7 @@ from .config import REGISTRY, RunConfig, load_config, read_yaml
 from .engine import HISTORY_COLUMNS, Checkpointer, RunState, Termination, run, write_atomic
 from .errors import ConfigError, EvoplanError
 from .evaluation import Evaluator, ObjectiveShapeError
+from .fixed_run import execute_fixed, is_fixed
 from .multiobjective import MultiEvaluator, VectorsToLedger, add_hypervolume, connect, evaluator_for, write_front
 from .parallel import ParallelEvaluator, open_pool
 from .limits import check_population
@@ -91,7 +92,8 @@ def prepare(config: RunConfig, source: str = "<config>", problem=None) -> Prepar
                           f"serial (the {config.evaluation.backend} backend already uses the cores)")
     t = config.termination
     prepared = Prepared(config, source, space, evaluator, Termination(t.generations, t.evaluations, t.target, t.seconds))
-    check_population(config.algorithm, prepared.search.n_bits, space.n_var, source)
+    if space.n_var:  # else every decision is fixed: one evaluation, no population
+        check_population(config.algorithm, prepared.search.n_bits, space.n_var, source)
     return prepared
 
 
@@ -126,6 +128,9 @@ def resume_state(prepared: Prepared, out: Path) -> RunState:
     The checkpoint is data (:mod:`evoplan.checkpoint`): it is loaded into a fresh state built
     from the run file, after its checksum and fingerprint are checked; nothing in it is run.
     """
+    if is_fixed(prepared):
+        raise ConfigError(f"{prepared.source}: every decision is fixed: the run is one evaluation with "
+                          f"no checkpoint; run it again with --out (a new folder) instead of --resume {out}")
     path = out / CHECKPOINT
     if not path.is_file():
         hint = f" (killed before its first checkpoint: start it again with --out {out})" if out.is_dir() else ""
@@ -161,6 +166,8 @@ def execute(prepared: Prepared, out: Path, resume: bool = False, progress: bool 
     so a run killed at any moment can be resumed. A disk that fills up or turns read-only is a
     one-line error; the last complete checkpoint stays resumable.
     """
+    if is_fixed(prepared) and not resume:
+        return execute_fixed(prepared, out)
     cfg = prepared.config
     state = resume_state(prepared, out) if resume else None
     e = cfg.evaluation
@@ -251,11 +258,12 @@ def best_record(prepared: Prepared, state: RunState) -> dict:
     }
 
 
-def write_results(prepared: Prepared, state: RunState, out: Path) -> None:
-    """The results files; ``best.json`` last, so that it marks a run whose results are all written."""
+def write_results(prepared: Prepared, state: RunState, out: Path, extra: dict | None = None) -> None:
+    """The results files; ``best.json`` last, so that it marks a run whose results are all written.
+    ``extra``: keys added to ``best.json`` (a fixed run's plan and criteria)."""
     history = history_frame(state)
     write_atomic(out / "history.csv", history.to_csv(index=False).encode())
-    record = best_record(prepared, state)
+    record = {**best_record(prepared, state), **(extra or {})}
     if prepared.config.output.plot:
         from .plots import convergence_png  # matplotlib loads only when a figure is drawn
 

@@ -114,11 +114,11 @@ class Space:
     """An ordered set of variables with their binary codec.
 
     ``decode(G: (n, L) bool) -> X: (n, d) float`` and ``encode(X) -> G`` (nearest code).
+    A space of no variables is one point (``d = L = 0``): a problem whose every decision is
+    fixed, which a run evaluates once (:mod:`evoplan.fixed_run`) instead of searching.
     """
 
     def __init__(self, variables: Sequence[Variable], gray: bool = False) -> None:
-        if not variables:
-            raise ValueError("a space needs at least one variable")
         names = [v.name for v in variables]
         if len(set(names)) != len(names):
             raise ValueError(f"variable names must be unique, got {names}")

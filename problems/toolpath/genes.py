@@ -176,6 +176,8 @@ class GeneSpace:
                          dtype=float)
         d = self.n_var
         X = np.asarray(X, dtype=float)
+        if d == 0:  # every gene fixed: a row is empty, only the count of rows means anything
+            return X.reshape(len(X) if X.ndim == 2 else 1, 0)
         if X.size == 0:
             return X.reshape(0, d)
         X = np.atleast_2d(X)
@@ -237,7 +239,8 @@ class GeneSpace:
     def decode(self, X) -> dict[str, np.ndarray]:
         """Rows X (n, n_var) -> every gene as an (n,) array, fixed ones inserted; ``tool`` the
         index (int), an integer gene rounded."""
-        X = np.asarray(X, float).reshape(-1, self.n_var)
+        X = np.asarray(X, float)
+        X = X.reshape(-1, self.n_var) if self.n_var else X.reshape(len(X) if X.ndim == 2 else 1, 0)
         n = len(X)
         genes = {}
         for name in self.names:

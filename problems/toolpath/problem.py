@@ -53,7 +53,8 @@ class ToolpathProblem(Problem):
     The judgement: ``weights`` (criterion -> weight, default machining_error 0.5 + cc_count
     0.5), ``objectives`` (a list of criteria: a multi-objective F), ``normalization``
     {criterion: [lo, hi]} (given bounds; ``[0, 1]`` keeps a criterion's raw value),
-    ``normalization_samples`` / ``seed`` of the fixed design, ``feed_rate`` mm/min (1000, for
+    ``normalization_samples`` / ``seed`` of the fixed design (with every gene fixed there is
+    no design: a criterion without given bounds enters Eq. 9 raw), ``feed_rate`` mm/min (1000, for
     ``machining_time_nominal``), ``dynamics`` {accel, jerk, feed, rapid, corner_tolerance}
     (the machine's limits for the kinematic ``machining_time``),
     ``allowance`` finishing stock mm (0.5), ``criteria`` analytic | simulated (with
@@ -105,7 +106,9 @@ class ToolpathProblem(Problem):
         names = self.objectives if self.objectives is not None else list(self.weights)
         given = parse_bounds(normalization, names)
         missing = [k for k in names if k not in given]
-        if missing:
+        if missing and self.genes.n_var == 0:  # one plan, no design: its raw criteria
+            given.update({k: (0.0, 1.0) for k in missing})
+        elif missing:
             design = self.genes.design(int(normalization_samples), int(seed))
             given.update(bounds_from_sample(self._raw_criteria(design), missing))
         self.norm_bounds = {k: given[k] for k in names}
@@ -171,10 +174,22 @@ class ToolpathProblem(Problem):
     # -- criteria -------------------------------------------------------------------------
     def _raw_criteria(self, X) -> dict[str, np.ndarray]:
         """The analytic criteria of X, with the simulated ones in place of the analytic
-        scallop, gouge and machining error under ``criteria: simulated``."""
+        scallop, gouge and machining error under ``criteria: simulated``. The last single
+        plan's criteria are kept: its objective and its report (``evaluate``, a run with
+        every gene fixed) cost one evaluation, not two."""
         X = self.check(X)
         if len(X) == 0:
             return {k: np.zeros(0) for k in ANALYTIC}
+        key = X.tobytes() if len(X) == 1 else None
+        memo = getattr(self, "_one_plan", None)
+        if key is not None and memo is not None and memo[0] == key:
+            return {k: v.copy() for k, v in memo[1].items()}
+        crit = self._criteria_of(X)
+        if key is not None:
+            self._one_plan = (key, {k: np.array(v, copy=True) for k, v in crit.items()})
+        return crit
+
+    def _criteria_of(self, X) -> dict[str, np.ndarray]:
         batch, genes = self.plan(X, place=False)
         crit = analytic_criteria(batch, self.surface, self.tool_db, genes,
                                  allowance=self.allowance, feed_rate=self.feed_rate,
