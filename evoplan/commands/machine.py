@@ -168,27 +168,15 @@ def main(args: argparse.Namespace) -> int:
     out = Path(args.out or Path("results") / f"{cfg.name}-{time.strftime('%Y%m%d-%H%M%S')}")
     check_out(out)
     plan = plan_from_run(Path(args.from_run)) if args.from_run else None
-    from tqdm import tqdm
+    from .progress import Stages
 
-    bar = tqdm(total=7, desc="machine", unit="stage", disable=True if getattr(args, "quiet", False) else None,
-               bar_format="{desc}: {n}/{total} {postfix} [{elapsed}]")
-
-    started = []
-
-    def stage(name):
-        if started:
-            bar.update()
-        started.append(name)
-        bar.set_postfix_str(name)
-
-    try:
-        files, summary = build_operations(cfg.model_dump(), Path(args.config).resolve().parent, plan,
-                                          max_bytes=available_bytes(), progress=stage)
-        bar.update()
-    except ValueError as e:
-        raise ConfigError(f"{args.config}: {e}") from None
-    finally:
-        bar.close()
+    with Stages("machine", 7, getattr(args, "quiet", False)) as stage:
+        try:
+            files, summary = build_operations(cfg.model_dump(), Path(args.config).resolve().parent, plan,
+                                              max_bytes=available_bytes(), progress=stage)
+            stage.finish()
+        except ValueError as e:
+            raise ConfigError(f"{args.config}: {e}") from None
     if args.check:
         failed = {op: s["safety"]["violations"] for op, s in summary.items()
                   if isinstance(s, dict) and s.get("safety") and s["safety"]["violations"]}

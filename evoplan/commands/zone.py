@@ -1,4 +1,4 @@
-"""``evoplan zone CONFIG [--out DIR]``: zone a surface, optimize each zone's feed direction.
+"""``evoplan zone CONFIG [--out DIR] [--quiet]``: zone a surface, optimize each zone's feed direction.
 
 The file names the surface, the cutter (R, r), the scallop limit h_c, the zone-change
 penalty Delta L, the parametric mesh, the zoning method (any name of the registry in
@@ -13,7 +13,8 @@ passes and length, total length of Djebali Eq. 4 with the edge runs, the lengths
 papers count them: ``length_on_part_mm`` and ``length_papers_mm`` = on part + penalty,
 penalty, merge counts, seconds), ``zones.csv`` (cell -> zone, with the cell's features),
 ``zone_map.png`` (the zones and the sections cut) and ``toolpath.apt`` (the CL path).
-Nothing is written unless the whole plan succeeds.
+Nothing is written unless the whole plan succeeds. A progress line names each stage (zones,
+passes, the files) on a terminal; ``--quiet`` silences it.
 """
 
 from __future__ import annotations
@@ -85,6 +86,7 @@ def add_parser(sub) -> argparse.ArgumentParser:
                    help=f"override the method (registered: {', '.join(REGISTRY)})")
     p.add_argument("--strategy", metavar="NAME",
                    help="override the pass layout (parallel, isoscallop, contour, isoparametric)")
+    p.add_argument("--quiet", action="store_true", help="no progress line")
     return p
 
 
@@ -105,11 +107,11 @@ def load(path: str, method: str | None = None, strategy: str | None = None) -> Z
     return cfg
 
 
-def build_plan(cfg: ZoneBase, base_dir: Path):
+def build_plan(cfg: ZoneBase, base_dir: Path, progress=None):
     """(surface, planner, genes, batch, seconds) of a validated config: the one engine's
     3-axis plan (drop-cutter placement, passes spaced for h_c, each zone along its optimized
     direction) with the method's zones, and the seconds planning took; ValueError for bad
-    values."""
+    values. ``progress(name)`` is called as the zoning, then the passes, start."""
     import numpy as np
 
     from ..problems.toolpath.geometry.spec import parse_surface
@@ -132,6 +134,10 @@ def build_plan(cfg: ZoneBase, base_dir: Path):
     planner = Planner(surface, tools, machine="3axis", zoning=spec, spacing="scallop",
                       h_c=cfg.h_c, feed_angle=None, strategy=cfg.strategy)
     t0 = time.perf_counter()
+    if progress is not None:
+        progress(f"zones ({cfg.method}, mesh {cfg.mesh[0]} x {cfg.mesh[1]})")
+        layout = planner.layout(genes)  # memoized: the plan below reuses it
+        progress(f"passes of {layout.count} zone(s)")
     batch = planner.plan(genes, place=False)
     return surface, planner, genes, batch, time.perf_counter() - t0
 
@@ -215,19 +221,27 @@ def main(args: argparse.Namespace) -> int:
     cfg = load(args.config, args.method, args.strategy)
     out = Path(args.out or Path("results") / f"{cfg.name}-{time.strftime('%Y%m%d-%H%M%S')}")
     check_out(out)
-    try:
-        surface, planner, genes, batch, seconds = build_plan(cfg, Path(args.config).resolve().parent)
-        facts = summary(cfg, planner, genes, batch, seconds)
-        labels = planner.layout(genes).labels
-        files = {"summary.json": json.dumps(facts, indent=2).encode(),
-                 "zones.csv": zones_csv(planner.layouts.features, labels),
-                 "zone_map.png": zone_map_png(surface, batch, labels,
-                                              title=f"{cfg.name}: {facts['method']}, "
-                                                    f"{facts['n_zones']} zones, total "
-                                                    f"{facts['total_length_mm']:.0f} mm"),
-                 "toolpath.apt": toolpath_apt(planner, genes, facts)}
-    except ValueError as e:
-        raise ConfigError(f"{args.config}: {e}") from None
+    from .progress import Stages
+
+    with Stages("zone", 5, getattr(args, "quiet", False)) as stage:
+        try:
+            surface, planner, genes, batch, seconds = build_plan(cfg, Path(args.config).resolve().parent,
+                                                                 progress=stage)
+            stage("zones.csv")
+            facts = summary(cfg, planner, genes, batch, seconds)
+            labels = planner.layout(genes).labels
+            files = {"summary.json": json.dumps(facts, indent=2).encode(),
+                     "zones.csv": zones_csv(planner.layouts.features, labels)}
+            stage("zone_map.png")
+            files["zone_map.png"] = zone_map_png(surface, batch, labels,
+                                                 title=f"{cfg.name}: {facts['method']}, "
+                                                       f"{facts['n_zones']} zones, total "
+                                                       f"{facts['total_length_mm']:.0f} mm")
+            stage(f"toolpath.apt ({int(batch.on_part.sum())} CC points)")
+            files["toolpath.apt"] = toolpath_apt(planner, genes, facts)
+            stage.finish()
+        except ValueError as e:
+            raise ConfigError(f"{args.config}: {e}") from None
     write_folder(out, files)  # all files or none (a full disk: one line)
     print(json.dumps({"out": str(out), "method": facts["method"],
                       "zones_from_method": facts["info"].get("merge", {}).get("zones_in"),
