@@ -4,7 +4,8 @@ The base install runs evoplan's own algorithms, the pymoo adapters, the toolpath
 problems, studies and figures. Single features need an extra (see ``pyproject.toml``):
 ``dask`` (the Dask backend), ``deap`` (the ``deap_easimple`` adapter), ``bbob`` (BBOB problems
 through ``ioh``), ``docs`` (building the documentation), ``exchange`` (DXF and STL files of
-``evoplan machine``), ``report`` (plotly for ``evoplan report``); ``test`` installs them all.
+``evoplan machine``), ``report`` (plotly for ``evoplan report``), ``cad`` (STEP and IGES
+faces through OCCT); ``test`` installs them all.
 """
 
 from __future__ import annotations
