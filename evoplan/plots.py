@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 import pandas as pd
+import matplotlib.pyplot as plt
+from matplotlib.font_manager import FontProperties
 from matplotlib.ticker import MaxNLocator
 
 from .figure_style import OBJECTIVE_UNITS, PALETTE, figure, label, legend_outside, plain_numbers, png
@@ -36,7 +38,11 @@ def convergence_figure(history: pd.DataFrame, title: str, problem: str = ""):
 
 
 def generation_axis(ax, history: pd.DataFrame):
-    """A top axis whose ticks mark where generations ended, at their evaluation counts."""
+    """A top axis whose ticks mark where generations ended, at their evaluation counts.
+
+    Generations late in a run often cost few evaluations (the cache answers most of them), so
+    their ticks crowd together; a tick is kept only if its label clears its right-hand
+    neighbour's (:func:`thin_ticks`), and the run's last generation is always labelled."""
     ax.set_xlim(ax.get_xlim())  # frozen: both axes share these limits from now on
     top = ax.twiny()
     top.set_xlim(ax.get_xlim())
@@ -44,11 +50,31 @@ def generation_axis(ax, history: pd.DataFrame):
     ev = history["evaluations"].to_numpy(dtype=float)
     if len(gens):
         wanted = MaxNLocator(nbins=8, integer=True).tick_values(gens.min(), gens.max())
-        at = np.isin(gens, np.rint(wanted).astype(int))
+        at = np.isin(gens, np.rint(wanted).astype(int)) | (gens == gens.max())
         at &= np.r_[ev[1:] != ev[:-1], True]  # generations that cost nothing (cache): label the last
-        top.set_xticks(ev[at], labels=[str(g) for g in gens[at]])
+        labels = [str(g) for g in gens[at]]
+        keep = thin_ticks(ax, ev[at], labels)
+        top.set_xticks(ev[at][keep], labels=[t for t, k in zip(labels, keep) if k])
     top.set_xlabel("generation")
     return top
+
+
+def thin_ticks(ax, positions: np.ndarray, labels: list[str], pad_chars: float = 1.5) -> np.ndarray:
+    """Which ticks to keep so that no two labels overlap, walking from the right (the last is
+    kept). Label widths are estimated from the tick font size (0.6 em a character) against the
+    axes' current width, which only grows when the figure is laid out."""
+    size = plt.rcParams["xtick.labelsize"]
+    points = size if isinstance(size, (int, float)) else FontProperties(size=size).get_size_in_points()
+    width_in = ax.get_position().width * ax.figure.get_figwidth()
+    lo, hi = ax.get_xlim()
+    per_char = 0.6 * points / 72 / width_in * (hi - lo)  # one character, in data units
+    keep = np.zeros(len(positions), dtype=bool)
+    last = None
+    for i in range(len(positions) - 1, -1, -1):
+        if last is None or positions[last] - positions[i] >= per_char * ((len(labels[i]) + len(labels[last])) / 2 + pad_chars):
+            keep[i] = True
+            last = i
+    return keep
 
 
 def convergence_png(history: pd.DataFrame, title: str, problem: str = "") -> bytes:

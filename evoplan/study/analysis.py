@@ -96,15 +96,16 @@ def analyze(study: StudyConfig, folder: StudyFolder, records: list[dict[str, Any
         from . import figures
 
         plots = {
-            "figures/convergence.png": lambda: figures.convergence(runs, steps, f_ref),
-            "figures/final_values.png": lambda: figures.final_boxes(runs, f_ref),
+            "figures/convergence.png": lambda: figures.convergence(runs, steps, known),
+            "figures/final_values.png": lambda: figures.final_boxes(runs, known),
             "figures/ecdf.png": lambda: figures.ecdf_figure(runs, steps, f_ref, targets),
         }
         if diagrams:
-            plots["figures/critical_difference.png"] = lambda: cd_diagram(diagrams, st.alpha)
+            colors = {name: style["color"] for name, style in figures.variant_styles(runs).items()}
+            plots["figures/critical_difference.png"] = lambda: cd_diagram(diagrams, st.alpha, colors)
         if (runs["factor"] != "").any():
-            plots["figures/factor_effects.png"] = lambda: figures.factor_effects(runs, f_ref)
-            plots["figures/factor_generations.png"] = lambda: figures.factor_generations(runs, history, f_ref)
+            plots["figures/factor_effects.png"] = lambda: figures.factor_effects(runs, known)
+            plots["figures/factor_generations.png"] = lambda: figures.factor_generations(runs, history, known)
         for name, draw in plots.items():
             folder.write_bytes(name, draw())
             names.append(name)

@@ -23,8 +23,6 @@ units) for such problems.
 
 from __future__ import annotations
 
-import io
-
 import numpy as np
 import pandas as pd
 from scipy import stats
@@ -74,24 +72,27 @@ def friedman(runs: pd.DataFrame, reference: str, reference_levels: dict[str, str
     return (pd.DataFrame(rows, columns=FRIEDMAN_COLUMNS), pd.DataFrame(pairs), diagrams)
 
 
-def cd_diagram(diagrams, alpha: float = 0.05) -> bytes:
-    """The critical-difference diagrams of :func:`friedman`, one panel each, as PNG bytes."""
-    import matplotlib
+def cd_diagram(diagrams, alpha: float = 0.05, colors: dict[str, str] | None = None) -> bytes:
+    """The critical-difference diagrams of :func:`friedman`, one panel each, as PNG bytes.
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    ``colors`` maps a variant's label to its colour in the study's other figures
+    (:func:`evoplan.study.figures.variant_styles`), so a variant keeps its colour here too,
+    whatever its rank; a label it lacks takes the palette's next colour."""
     import scikit_posthocs as sp
 
-    fig, axes = plt.subplots(len(diagrams), 1, figsize=(8, 1.2 + 1.3 * len(diagrams)), squeeze=False)
-    for ax, (title, ranks, p_matrix) in zip(axes[:, 0], diagrams):
-        sp.critical_difference_diagram(ranks, p_matrix, alpha=alpha, ax=ax)
+    from ..figure_style import PALETTE, figure, png
+
+    colors = dict(colors or {})
+    fig, axes = figure(len(diagrams), width=8, height=1.2 + 1.3 * len(diagrams) / max(len(diagrams), 1), cols=1)
+    for ax, (title, ranks, p_matrix) in zip(axes, diagrams):
+        for name in ranks.index:
+            colors.setdefault(name, PALETTE[len(colors) % len(PALETTE)])
+        ax.grid(False)
+        sp.critical_difference_diagram(ranks, p_matrix, alpha=alpha, ax=ax,
+                                       color_palette={n: colors[n] for n in ranks.index})
         ax.set_title(f"{title}: mean rank (1 = best); a bar joins variants not separated at alpha = {alpha}",
                      fontsize=9)
-    fig.tight_layout()
-    buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=120)
-    plt.close(fig)
-    return buf.getvalue()
+    return png(fig)
 
 
 def bayesian(runs: pd.DataFrame, reference: str, reference_levels: dict[str, str] | None = None,

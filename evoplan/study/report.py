@@ -31,7 +31,7 @@ METHOD = """\
 - **Ranks.** Within each problem and repetition, variants are ranked by final value (1 = best,
   failed runs last); the mean over repetitions is `mean_rank`.
 - **Values.** Where the optimum f_opt is known (BBOB through ioh, Kubota, pymoo's test
-  problems), tables show the precision Δf = f - f_opt; else raw values.
+  problems), tables and figures show the precision Δf = f - f_opt; else raw values.
 - **ECDF.** Fixed-target runtimes to f_ref + 10^k for {n_targets} precisions (COCO style); f_ref
   is the known optimum, else the best value any run found. A runtime is the index of the first
   evaluation that reached the target (the engine records every improvement), not the end of

@@ -61,3 +61,20 @@ def test_generations_that_cost_no_evaluation_share_one_tick():
     assert len(set(ticks)) == len(ticks) and "3" in labels and "1" not in labels and "2" not in labels
     assert ax.get_ylabel() == "objective, minimized (mm)"
     plt.close(fig)
+
+
+def test_generation_labels_do_not_collide_where_generations_cost_few_evaluations():
+    # like runs/kubota_vega.yaml: the cache answers most of the late generations ("3240 48")
+    per = np.r_[20, np.full(20, 40), np.full(30, 3)]
+    history = _history(per)
+    fig = convergence_figure(history, "t")
+    fig.tight_layout()
+    fig.canvas.draw()
+    top = fig.axes[1]
+    renderer = fig.canvas.get_renderer()
+    boxes_ = sorted((t.get_window_extent(renderer) for t in top.get_xticklabels() if t.get_text()),
+                    key=lambda b: b.x0)
+    assert len(boxes_) >= 4
+    assert all(a.x1 < b.x0 for a, b in zip(boxes_, boxes_[1:]))  # no two labels overlap
+    assert top.get_xticklabels()[-1].get_text() == str(history["generation"].max())  # the run's end
+    plt.close(fig)
