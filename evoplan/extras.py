@@ -5,7 +5,8 @@ problems, studies and figures. Single features need an extra (see ``pyproject.to
 ``dask`` (the Dask backend), ``deap`` (the ``deap_easimple`` adapter), ``bbob`` (BBOB problems
 through ``ioh``), ``docs`` (building the documentation), ``exchange`` (DXF and STL files of
 ``evoplan machine``), ``report`` (plotly for ``evoplan report``), ``cad`` (STEP and IGES
-faces through OCCT); ``test`` installs them all.
+faces through OCCT), ``mesh`` (trimesh: parts given as STL, OBJ or PLY meshes,
+``surface: {type: mesh}``); ``test`` installs them all.
 """
 
 from __future__ import annotations

@@ -105,6 +105,13 @@ def make_problem(name: str, params: dict[str, Any] | None = None, base_dir: str 
     return problem
 
 
+def surface_facts(problem) -> dict[str, Any]:
+    """What every output of a problem records about its surface beyond the settings (a mesh:
+    the file and the measured deviation of the fit the plan was made on); {} for the rest."""
+    facts = getattr(getattr(problem, "surface", None), "facts", None)
+    return dict(facts()) if callable(facts) else {}
+
+
 def _accepts(factory: Callable, name: str) -> bool:
     try:
         return name in inspect.signature(factory).parameters

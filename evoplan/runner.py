@@ -241,8 +241,12 @@ def best_record(prepared: Prepared, state: RunState) -> dict:
         best["variables"] = prepared.space.named(prepared.search.decode(state.best_g[None, :])[0])
         if state.best_g.dtype == bool:
             best["genotype"] = "".join("1" if b else "0" for b in state.best_g)
+    from .problem_factory import surface_facts
+
+    facts = surface_facts(prepared.evaluator.problem)
     return {
         **best,
+        **({"surface": facts} if facts else {}),
         "evaluations": state.evaluations,
         "cache_hits": state.cache_hits,  # genotypes answered by the cache (see cache.budget)
         "generations": state.algorithm.generation,

@@ -98,6 +98,10 @@ def main(args: argparse.Namespace) -> int:
     report: dict[str, Any] = {"variables": space.named(X[0]), "objective": _plain(result.f[0])}
     if result.errors:
         report["error"] = result.errors[0]
+    from ..problem_factory import surface_facts
+
+    if facts := surface_facts(problem):
+        report["surface"] = facts
     criteria = getattr(problem, "criteria", None)
     if callable(criteria):
         try:

@@ -4,7 +4,8 @@ Without NAME, lists them (name and the first sentence of the file's opening comm
 ``kubota_vega.yaml``), copies that file to DIR (default: the current folder) and prints its
 path, ready for ``evoplan run`` or ``evoplan study``. The files travel inside the installed
 package (``evoplan.examples``, the repository's ``runs/*.yaml``), so this works from a wheel
-installed anywhere.
+installed anywhere. A part file the example names (``file: parts/wavy_mesh.stl``) is copied
+with it, to the same relative place under DIR.
 """
 
 from __future__ import annotations
@@ -54,6 +55,31 @@ def summary(text: str) -> str:
     return "study" if "\nalgorithms:" in f"\n{text}" else "run"
 
 
+def referenced(text: str) -> list[str]:
+    """The shipped files (relative paths, e.g. ``parts/wavy_mesh.stl``) a run file's values
+    name, so that a copied example finds them beside it."""
+    import yaml
+
+    root = resources.files("evoplan.examples")
+    found: list[str] = []
+
+    def walk(node):
+        if isinstance(node, dict):
+            for value in node.values():
+                walk(value)
+        elif isinstance(node, list):
+            for value in node:
+                walk(value)
+        elif isinstance(node, str) and "/" in node and not Path(node).is_absolute() \
+                and ".." not in Path(node).parts:
+            target = root.joinpath(*Path(node).parts)
+            if target.is_file() and node not in found:
+                found.append(node)
+
+    walk(yaml.safe_load(text))
+    return found
+
+
 def main(args: argparse.Namespace) -> int:
     files = shipped()
     if not args.name:
@@ -75,9 +101,16 @@ def main(args: argparse.Namespace) -> int:
     if out.exists() and not out.is_dir():
         raise EvoplanError(f"--out {out}: not a folder")
     target = out / f"{name}.yaml"
-    if target.exists():
-        raise EvoplanError(f"{target}: already exists")
+    text = files[name].read_text()
+    parts = referenced(text)
+    for dest in [target, *(out / p for p in parts)]:
+        if dest.exists():
+            raise EvoplanError(f"{dest}: already exists")
     out.mkdir(parents=True, exist_ok=True)
-    target.write_text(files[name].read_text())
+    root = resources.files("evoplan.examples")
+    for p in parts:
+        (out / p).parent.mkdir(parents=True, exist_ok=True)
+        (out / p).write_bytes(root.joinpath(*Path(p).parts).read_bytes())
+    target.write_text(text)
     print(target)
     return 0

@@ -177,7 +177,11 @@ def _measure(args: argparse.Namespace, stages) -> tuple[dict, dict[str, bytes]]:
     seconds = time.perf_counter() - t0
     stages.update()
     stages.set_postfix_str("figures")
+    from ..problem_factory import surface_facts
+
     record = {"plan": label, **sim.summary(path, seconds)}
+    if facts := surface_facts(problem):
+        record["surface"] = facts  # a mesh: the fit the plan was made on, and its deviation
     title = f"{label}\nscallop max {sim.metrics['scallop_max_mm']:.4f} mm, p99 " \
             f"{sim.metrics['scallop_p99_mm']:.4f} mm, gouge max {sim.metrics['gouge_max_mm']:.4f} mm"
     files = {

@@ -229,6 +229,8 @@ def main(args: argparse.Namespace) -> int:
                                                                  progress=stage)
             stage("zones.csv")
             facts = summary(cfg, planner, genes, batch, seconds)
+            if surface.facts():
+                facts["surface"] = surface.facts()  # a mesh: the fit's measured deviation
             labels = planner.layout(genes).labels
             files = {"summary.json": json.dumps(facts, indent=2).encode(),
                      "zones.csv": zones_csv(planner.layouts.features, labels)}

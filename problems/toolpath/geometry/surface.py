@@ -63,6 +63,11 @@ class Surface:
     #: where the surface is material in (u, v) (``footprint.py``): the unit square unless trimmed
     footprint: Footprint = UNIT_SQUARE
 
+    def facts(self) -> dict:
+        """What every output records about the surface beyond its settings (a mesh: the file
+        and the fit's measured deviation, ``mesh_surface.py``); empty for an exact surface."""
+        return {}
+
     def jet(self, u, v, order: int = 2) -> Jet:  # pragma: no cover - abstract
         """Derivatives up to ``order`` (0, 1 or 2) at u, v: (n,) each -> Jet of (n, 3)."""
         raise NotImplementedError

@@ -152,7 +152,8 @@ def build_operations(cfg: dict, base_dir=None, plan=None, max_bytes: float | Non
             plunge_feed=fin["plunge_feed"], name="finish")
     ops = {"roughing": rough, "semifinish": semi, "finish": finish}
     files, summary = {}, {"name": cfg["name"], "post": post.name,
-                          "surface": dict(zip(("z_min", "z_max"), surface_z_range(surface))),
+                          "surface": {**dict(zip(("z_min", "z_max"), surface_z_range(surface))),
+                                      **surface.facts()},
                           "stock": {"z_top": stock.z_top, "x": [float(stock.grid.xs[0]), float(stock.grid.xs[-1])],
                                     "y": [float(stock.grid.ys[0]), float(stock.grid.ys[-1])], "cell": stock.grid.cell}}
     for name, tp in ops.items():

@@ -11,7 +11,10 @@ whose Newton solution leaves the unit square, or does not converge, is off the p
 surface must be a graph over XY (one point above each (x, y)); a fold is refused.
 
 A polynomial surface (Fountas' part, Bezier nets) runs that per cell in one numba loop
-(``design_poly.py``, about 45 ns a cell); any other surface in numpy batches of cells.
+(``design_poly.py``, about 45 ns a cell); any other surface in numpy batches of cells. A
+surface with a ``design_cells`` method gives its cells itself: a mesh surface
+(``geometry/mesh_surface.py``) puts the mesh's own triangles under the cell centres, so the
+simulation measures against the mesh, not against the smooth fit the planner uses.
 """
 
 from __future__ import annotations
@@ -229,8 +232,12 @@ def _design_grid(surface: Surface, h: float, margin: float, max_bytes: float | N
     ny = int(np.floor((ymax - ymin + 2 * margin) / h)) + 1
     xs = x0 + h * np.arange(nx)
     ys = y0 + h * np.arange(ny)
-    table = _inverse_table(surface, xmin, xmax, ymin, ymax)
-    z, normal, inside, U, V = cells(surface, xs, ys, table)
+    own = getattr(surface, "design_cells", None)  # a surface with its own design (a mesh)
+    if own is not None:
+        z, normal, inside, U, V = own(float(x0), float(y0), float(h), nx, ny)
+    else:
+        table = _inverse_table(surface, xmin, xmax, ymin, ymax)
+        z, normal, inside, U, V = cells(surface, xs, ys, table)
     weight, _ = clipped_fractions(footprint_polygon(surface), float(x0), float(y0), float(h),
                                   inside)
     return DesignGrid(float(x0), float(y0), float(h), z, normal, inside, U, V, weight)

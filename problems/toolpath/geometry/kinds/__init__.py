@@ -1,3 +1,3 @@
 """The shipped surface types, one module each (importing them registers them, in this order)."""
 
-from . import fountas, choi, bezier, bspline, nurbs, step  # noqa: F401,I001
+from . import fountas, choi, bezier, bspline, nurbs, step, mesh  # noqa: F401,I001

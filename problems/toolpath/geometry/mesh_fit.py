@@ -1,0 +1,125 @@
+"""A smooth height field fitted to a triangle mesh, and its largest deviation from the mesh.
+
+The mesh (a checked :class:`~.mesh_io.TriangleMesh`) is sampled on a regular XY grid
+(:func:`~.mesh_raster.rasterize`, ``SAMPLES`` points per knot interval each way), and a
+bicubic B-spline f(x, y) with uniform clamped knots ``spacing`` mm apart is fitted to those
+heights by least squares. On a full grid the tensor-product problem
+min ||B_x C B_y^T - Z||_F separates into two one-dimensional ones (C = B_x^+ Z (B_y^+)^T),
+solved with ``scipy.interpolate.make_lsq_spline`` along x for every row, then along y for
+every column of coefficients. Grid points over no triangle (a footprint that is not the
+whole rectangle) take the height of the nearest point over the mesh, so the fit extends
+smoothly past the part's edge.
+
+The default spacing is ``SPACING_EDGES`` times the mesh's median edge length in plan view:
+coarse enough that the facets' kinks (the piecewise-linear mesh's curvature is all at its
+edges) are not followed, fine enough for the shape the facets approximate.
+
+The fit is then measured against the mesh at every vertex, every edge midpoint, every
+triangle's centroid and every sample point: :class:`Deviation` holds the largest
+|f(x, y) - mesh(x, y)|, where it is, and the root mean square.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy import ndimage
+from scipy.interpolate import make_lsq_spline
+
+from .heightfield import HeightFieldSurface
+from .mesh_io import TriangleMesh, _edge_keys
+from .mesh_raster import rasterize
+
+__all__ = ["Fit", "Deviation", "fit_height_field", "deviation", "SPACING_EDGES", "SAMPLES", "MAX_INTERVALS"]
+
+SPACING_EDGES = 3.0   # default knot spacing, in median mesh edge lengths
+SAMPLES = 3           # sample points per knot interval, each way
+MAX_INTERVALS = 600   # knot intervals per axis at most (a finer spacing is widened)
+
+
+@dataclass(frozen=True)
+class Fit:
+    """The fitted height field, its knot spacing (mm) and the samples it was fitted to:
+    ``xs`` (nx,), ``ys`` (ny,), ``z`` (ny, nx) mesh heights (nan off the mesh)."""
+
+    surface: HeightFieldSurface
+    spacing: float
+    xs: np.ndarray
+    ys: np.ndarray
+    z: np.ndarray
+
+
+@dataclass(frozen=True)
+class Deviation:
+    """Largest |fit - mesh| (mm) at ``where`` (x, y), the RMS, and the points it was taken at."""
+
+    max_mm: float
+    where: tuple[float, float]
+    rms_mm: float
+    points: int
+
+
+def median_edge(mesh: TriangleMesh) -> float:
+    """Median plan-view (XY) length of the mesh's edges, mm."""
+    e = mesh.edges()
+    d = mesh.vertices[e[:, 0], :2] - mesh.vertices[e[:, 1], :2]
+    return float(np.median(np.hypot(d[:, 0], d[:, 1])))
+
+
+def _knots(lo: float, hi: float, intervals: int) -> np.ndarray:
+    inner = np.linspace(lo, hi, intervals + 1)
+    return np.concatenate([[lo] * 3, inner, [hi] * 3])
+
+
+def fit_height_field(mesh: TriangleMesh, spacing: float | None = None, key: str = "surface") -> Fit:
+    """The smooth height field of ``mesh`` (module docstring); ValueError (one line naming
+    ``key`` and the file) when two sheets of the mesh cover one (x, y)."""
+    xmin, xmax, ymin, ymax = mesh.bounds
+    lx, ly = xmax - xmin, ymax - ymin
+    if not (lx > 0 and ly > 0):
+        raise ValueError(f"{key}: {mesh.label}: degenerate: it has no extent in plan view")
+    if spacing is None:
+        spacing = SPACING_EDGES * median_edge(mesh)
+    spacing = max(float(spacing), max(lx, ly) / MAX_INTERVALS)
+    nkx, nky = (max(int(np.ceil(s / spacing - 1e-9)), 1) for s in (lx, ly))
+    g = min(lx / nkx, ly / nky) / SAMPLES
+    nx, ny = int(np.floor(lx / g)) + 1, int(np.floor(ly / g)) + 1
+    x0 = xmin + 0.5 * (lx - (nx - 1) * g)
+    y0 = ymin + 0.5 * (ly - (ny - 1) * g)
+    raster = rasterize(mesh, x0, y0, g, nx, ny)
+    if raster.overlap is not None:
+        x, y, z1, z2 = raster.overlap
+        raise ValueError(f"{key}: {mesh.label}: not a height field over XY: two sheets at (x, y) = "
+                         f"({x:.2f}, {y:.2f}), z = {z1:.2f} and {z2:.2f}")
+    z = raster.z
+    off = ~np.isfinite(z)
+    if off.all():
+        raise ValueError(f"{key}: {mesh.label}: degenerate: no sample point lies on a triangle")
+    if off.any():
+        idx = ndimage.distance_transform_edt(off, return_distances=False, return_indices=True)
+        z = z[tuple(idx)]
+    xs, ys = x0 + g * np.arange(nx), y0 + g * np.arange(ny)
+    tx, ty = _knots(xmin, xmax, nkx), _knots(ymin, ymax, nky)
+    along_x = make_lsq_spline(xs, z.T, tx, k=3).c          # (nkx + 3, ny)
+    coeffs = make_lsq_spline(ys, along_x.T, ty, k=3).c.T   # (nkx + 3, nky + 3)
+    surface = HeightFieldSurface((tx, ty), coeffs, (xmin, xmax, ymin, ymax), name="mesh")
+    return Fit(surface, spacing, xs, ys, raster.z)
+
+
+def deviation(fit: Fit, mesh: TriangleMesh) -> Deviation:
+    """The fit measured against the mesh (module docstring): vertices, edge midpoints,
+    centroids and the sample points that lie on the mesh."""
+    v, f = mesh.vertices, mesh.faces
+    e = mesh.edges()
+    _, first = np.unique(_edge_keys(e, len(v)), return_index=True)
+    e = e[first]
+    gx, gy = np.meshgrid(fit.xs, fit.ys)
+    zs = fit.z
+    on = np.isfinite(zs)
+    pts = np.concatenate([v, 0.5 * (v[e[:, 0]] + v[e[:, 1]]), v[f].mean(axis=1),
+                          np.column_stack([gx[on], gy[on], zs[on]])])
+    d = np.abs(fit.surface.height(pts[:, 0], pts[:, 1]) - pts[:, 2])
+    i = int(np.argmax(d))
+    return Deviation(float(d[i]), (float(pts[i, 0]), float(pts[i, 1])),
+                     float(np.sqrt(np.mean(d * d))), len(d))
