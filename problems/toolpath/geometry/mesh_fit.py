@@ -4,11 +4,13 @@ The mesh (a checked :class:`~.mesh_io.TriangleMesh`) is sampled on a regular XY 
 (:func:`~.mesh_raster.rasterize`, ``SAMPLES`` points per knot interval each way), and a
 bicubic B-spline f(x, y) with uniform clamped knots ``spacing`` mm apart is fitted to those
 heights by least squares. On a full grid the tensor-product problem
-min ||B_x C B_y^T - Z||_F separates into two one-dimensional ones (C = B_x^+ Z (B_y^+)^T),
-solved with ``scipy.interpolate.make_lsq_spline`` along x for every row, then along y for
-every column of coefficients. Grid points over no triangle (a footprint that is not the
-whole rectangle) take the height of the nearest point over the mesh, so the fit extends
-smoothly past the part's edge.
+min ||B_x C B_y^T - Z||_F separates into two one-dimensional ones (C = B_x^+ Z (B_y^+)^T):
+along x for every row, then along y for every column of coefficients (the 1-D least-squares
+operators are small dense matrices).
+When grid points lie over no triangle (a footprint that is not the whole rectangle, a hole)
+the fit is the least-squares fit of the points on the mesh alone, solved as one sparse
+system with a small smoothness penalty that extends it across the gaps
+(:func:`_least_squares`).
 
 The default spacing is ``SPACING_EDGES`` times the mesh's median edge length in plan view:
 coarse enough that the facets' kinks (the piecewise-linear mesh's curvature is all at its
@@ -24,8 +26,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import ndimage
-from scipy.interpolate import make_lsq_spline
+from scipy.interpolate import BSpline
 
 from .heightfield import HeightFieldSurface
 from .mesh_io import TriangleMesh, _edge_keys
@@ -36,6 +37,7 @@ __all__ = ["Fit", "Deviation", "fit_height_field", "deviation", "SPACING_EDGES",
 SPACING_EDGES = 3.0   # default knot spacing, in median mesh edge lengths
 SAMPLES = 3           # sample points per knot interval, each way
 MAX_INTERVALS = 600   # knot intervals per axis at most (a finer spacing is widened)
+SMOOTHING = 1e-6      # second-difference penalty when samples lie off the mesh (relative)
 
 
 @dataclass(frozen=True)
@@ -96,15 +98,44 @@ def fit_height_field(mesh: TriangleMesh, spacing: float | None = None, key: str 
     off = ~np.isfinite(z)
     if off.all():
         raise ValueError(f"{key}: {mesh.label}: degenerate: no sample point lies on a triangle")
-    if off.any():
-        idx = ndimage.distance_transform_edt(off, return_distances=False, return_indices=True)
-        z = z[tuple(idx)]
     xs, ys = x0 + g * np.arange(nx), y0 + g * np.arange(ny)
     tx, ty = _knots(xmin, xmax, nkx), _knots(ymin, ymax, nky)
-    along_x = make_lsq_spline(xs, z.T, tx, k=3).c          # (nkx + 3, ny)
-    coeffs = make_lsq_spline(ys, along_x.T, ty, k=3).c.T   # (nkx + 3, nky + 3)
+    coeffs = _least_squares(xs, ys, z, off, tx, ty)
     surface = HeightFieldSurface((tx, ty), coeffs, (xmin, xmax, ymin, ymax), name="mesh")
     return Fit(surface, spacing, xs, ys, raster.z)
+
+
+def _least_squares(xs, ys, z, off, tx, ty):
+    """Coefficients (nbx, nby) of the least-squares fit to the samples z (ny, nx) that are
+    on the mesh (``~off``). With every sample on the mesh, one separable solve
+    C = P_x Z^T P_y^T (P = (B^T B)^-1 B^T, B the B-spline design matrix of one axis). With
+    samples off the mesh (a hole, a footprint that is not the rectangle), the normal
+    equations of the samples on the mesh alone, A^T A c = A^T z with A = B_y (x) B_x
+    restricted to them, plus a small penalty ``SMOOTHING`` x mean(diag A^T A) on the
+    coefficients' second differences, which decides the coefficients no sample reaches
+    (they extend the fit linearly) and leaves a plane exact."""
+    from scipy import sparse
+    from scipy.sparse.linalg import spsolve
+
+    bx = BSpline.design_matrix(xs, tx, 3)
+    by = BSpline.design_matrix(ys, ty, 3)
+    if not off.any():
+        bx, by = bx.toarray(), by.toarray()
+        px = np.linalg.solve(bx.T @ bx, bx.T)
+        py = np.linalg.solve(by.T @ by, by.T)
+        return px @ z.T @ py.T
+    nbx, nby = bx.shape[1], by.shape[1]
+    a = sparse.kron(by, bx, format="csr")[np.flatnonzero(~off.ravel())]  # rows (iy, ix), cols (j, i)
+    normal = (a.T @ a).tocsc()
+
+    def second_differences(n):
+        return sparse.diags([1.0, -2.0, 1.0], [0, 1, 2], shape=(max(n - 2, 1), n))
+
+    dx, dy = second_differences(nbx), second_differences(nby)
+    penalty = sparse.kron(sparse.eye(nby), dx.T @ dx) + sparse.kron(dy.T @ dy, sparse.eye(nbx))
+    lam = SMOOTHING * float(normal.diagonal().mean())
+    c = spsolve((normal + lam * penalty).tocsc(), a.T @ z.ravel()[~off.ravel()])
+    return c.reshape(nby, nbx).T
 
 
 def deviation(fit: Fit, mesh: TriangleMesh) -> Deviation:

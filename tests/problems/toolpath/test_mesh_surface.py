@@ -128,3 +128,22 @@ def test_simulation_measures_the_mesh_and_agrees_with_the_analytic_plan(mesh_fil
     assert e["scallop_max_mm"] > 0.2  # a real cusp (10 mm ball, 3 mm step-over)
     for k in ("scallop_max_mm", "scallop_mean_mm", "gouge_max_mm"):
         assert abs(m[k] - e[k]) <= dev, (k, m[k], e[k], dev)
+
+
+def test_a_mesh_with_a_hole_is_fitted_exactly_and_its_footprint_has_the_hole(tmp_path):
+    xs, ys = np.linspace(0, 40, 41), np.linspace(0, 30, 31)
+    X, Y = np.meshgrid(xs, ys)
+    tri = PART["grid_triangles"](xs, ys, 5 + 0.01 * X + 0.02 * Y)  # a plane
+    c = tri.mean(axis=1)
+    hole = (np.abs(c[:, 0] - 20) < 5) & (np.abs(c[:, 1] - 15) < 4)  # 10 x 8 mm removed
+    (tmp_path / "hole.stl").write_bytes(PART["stl_bytes"](tri[~hole]))
+    s = parse_surface({"type": "mesh", "file": str(tmp_path / "hole.stl")})
+    assert s.facts()["fit"]["max_deviation_mm"] < 1e-5  # a plane: the fit ignores the hole
+    fp = s.footprint
+    assert not fp.whole and len(fp.loops) == 2
+    assert fp.area() == pytest.approx(1 - 80 / 1200, abs=1e-12)
+    assert not fp.contains([0.5], [0.5])[0] and fp.contains([0.1], [0.1])[0]
+    g = design_grid(s, 0.5)
+    X, Y = np.meshgrid(g.xs, g.ys)
+    assert not (g.inside & (np.abs(X - 20) < 5) & (np.abs(Y - 15) < 4)).any()  # no cell in the hole
+    assert g.cell_area().sum() == pytest.approx(1120 * np.sqrt(1 + 0.01 ** 2 + 0.02 ** 2), rel=1e-9)
