@@ -194,21 +194,43 @@ def run(
     return state
 
 
-def evaluate(state: RunState, G: np.ndarray, space: Space, evaluator: Evaluator) -> np.ndarray:
-    """Objective values of the batch ``G``: cached ones looked up, new ones evaluated and counted.
+@dataclass
+class Pending:
+    """A batch looked up in the cache: the values known (NaN: not yet), and the rows to evaluate.
 
-    Rows are charged in batch order, so the k-th charged row is evaluation ``k`` of the run:
-    the index ``improvements`` records (first-hit runtimes at evaluation granularity).
+    ``todo``: the first occurrence of each genotype the cache does not hold; ``first``: the
+    index of each row's first occurrence in the batch (a repeat takes its value).
     """
+
+    G: np.ndarray
+    keys: np.ndarray | None
+    f: np.ndarray
+    first: np.ndarray
+    todo: np.ndarray
+
+
+def lookup(state: RunState, G: np.ndarray) -> Pending:
+    """The rows of ``G`` the run's cache answers, and those left to evaluate (:class:`Pending`)."""
     n = len(G)
     cache = state.cache
     if cache is None:
         keys, f, first = None, np.full(n, np.nan), np.arange(n)
     else:
         keys, f, first = cache.lookup(G)
-    todo = np.flatnonzero(np.isnan(f) & (first == np.arange(n)))
+    return Pending(G, keys, f, first, np.flatnonzero(np.isnan(f) & (first == np.arange(n))))
+
+
+def settle(state: RunState, pending: Pending, result: Evaluation | None) -> np.ndarray:
+    """The batch's values once ``result`` (the evaluation of ``pending.todo``) is in: stored in
+    the cache, failures, hits and charged evaluations counted, the best and its improvements kept.
+
+    Rows are charged in batch order, so the k-th charged row is evaluation ``k`` of the run:
+    the index ``improvements`` records (first-hit runtimes at evaluation granularity).
+    """
+    G, keys, f, first, todo = pending.G, pending.keys, pending.f, pending.first, pending.todo
+    n = len(G)
+    cache = state.cache
     if todo.size:
-        result = evaluator(space.decode(G[todo]))
         f[todo] = result.f
         _count_failures(state, result)
         if cache is not None:
@@ -233,6 +255,13 @@ def evaluate(state: RunState, G: np.ndarray, space: Space, evaluator: Evaluator)
         state.best_f, state.best_g = float(f[i]), G[i].copy()
     state.evaluations += int(np.count_nonzero(charged))
     return f
+
+
+def evaluate(state: RunState, G: np.ndarray, space: Space, evaluator: Evaluator) -> np.ndarray:
+    """Objective values of the batch ``G``: cached ones looked up, new ones evaluated and counted."""
+    pending = lookup(state, G)
+    result = evaluator(space.decode(G[pending.todo])) if pending.todo.size else None
+    return settle(state, pending, result)
 
 
 def _count_failures(state: RunState, result: Evaluation) -> None:

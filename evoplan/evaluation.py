@@ -4,7 +4,8 @@ A batch ``X: (n, d)`` is evaluated in one call. If that call raises, every row i
 its own so that one bad individual does not sink the others. A row that raises or returns a
 non-finite value is a *failure*: it gets the objective value ``inf`` (ranked last by every
 operator), is counted, and the run goes on. Constrained problems (pymoo ``G <= 0``, ``H = 0``)
-are scalarized with a static penalty: ``f + penalty * (sum max(G, 0) + sum |H|)``.
+are scalarized with a static penalty: ``f + penalty * (sum max(G, 0) + sum |H|)``; each row's
+constraint violation as pymoo measures it (``CV``, feasible when 0) comes with the values.
 """
 
 from __future__ import annotations
@@ -28,6 +29,34 @@ class Evaluation:
     failed: np.ndarray
     errors: list[str] = field(default_factory=list)
     F: np.ndarray | None = None  # a multi-objective evaluator's vectors (n, k), inf where failed
+    # a constrained problem's objective before the penalty and pymoo CV, (n,) each; NaN: raised
+    raw: np.ndarray | None = None
+    cv: np.ndarray | None = None
+
+
+def stack_column(parts: list["Evaluation"], name: str) -> np.ndarray | None:
+    """The ``raw`` or ``cv`` of consecutive evaluations joined in row order (NaN for a part without)."""
+    if all(getattr(r, name) is None for r in parts):
+        return None
+    return np.concatenate([np.full(len(r.f), np.nan) if getattr(r, name) is None else getattr(r, name) for r in parts])
+
+
+def violations(problem: Problem, out: dict, n: int) -> tuple[np.ndarray, np.ndarray]:
+    """``(penalized, cv)`` of ``n`` evaluated rows: the violation the penalty multiplies,
+    ``sum max(G, 0) + sum |H|``, and pymoo's ``CV`` with pymoo's default tolerances
+    (:func:`pymoo.core.individual.calc_cv`: ``sum max(0, G - eps) + sum max(0, |H| - eps)``)."""
+    from pymoo.core.individual import default_config
+
+    eps = default_config()
+    penalized, cv = np.zeros(n), np.zeros(n)
+    for key, n_constr, part in (("G", problem.n_ieq_constr, "cv_ieq"), ("H", problem.n_eq_constr, "cv_eq")):
+        if out.get(key) is None or not n_constr or not np.size(out[key]):
+            continue
+        c = np.asarray(out[key], dtype=float).reshape(n, -1)
+        c = np.maximum(c, 0) if key == "G" else np.abs(c)
+        penalized += c.sum(axis=1)
+        cv += np.maximum(0.0, c - eps[part]["eps"]).sum(axis=1)
+    return penalized, cv
 
 
 def stack_vectors(parts: list["Evaluation"]) -> np.ndarray | None:
@@ -100,30 +129,32 @@ class Evaluator:
         self.constraint_penalty = float(constraint_penalty)
         self.constrained = bool(problem.n_ieq_constr or problem.n_eq_constr)
 
-    def _scalar(self, X: np.ndarray) -> np.ndarray:
+    def _values(self, X: np.ndarray) -> tuple[np.ndarray, np.ndarray | None, np.ndarray | None]:
+        """The objective values of ``X`` (penalized), and for a constrained problem the values
+        before the penalty and pymoo's ``CV`` (else None, None)."""
         with time_limit(None if self.timeout is None else self.timeout * len(X)):
             out = self.problem.evaluate(X, return_as_dictionary=True)
         f = np.asarray(out["F"], dtype=float).reshape(len(X), -1)[:, 0]
-        if self.constrained:
-            violation = np.zeros(len(X))
-            if out.get("G") is not None and self.problem.n_ieq_constr:
-                violation += np.maximum(np.asarray(out["G"]).reshape(len(X), -1), 0).sum(axis=1)
-            if out.get("H") is not None and self.problem.n_eq_constr:
-                violation += np.abs(np.asarray(out["H"]).reshape(len(X), -1)).sum(axis=1)
-            f = f + self.constraint_penalty * violation
-        return f
+        if not self.constrained:
+            return f, None, None
+        penalized, cv = violations(self.problem, out, len(X))
+        return f + self.constraint_penalty * penalized, f, cv
 
     def __call__(self, X: np.ndarray) -> Evaluation:
         errors: list[str] = []
         try:
-            f = self._scalar(X)
+            f, raw, cv = self._values(X)
         except (Exception, SystemExit) as batch_error:  # isolate the failing rows (sys.exit too)
             if (shape := objective_shape_error(batch_error)) is not None:
                 raise shape from None  # the problem is wrong, not the individuals: stop the run
             f = np.empty(len(X))
+            raw, cv = (np.full(len(X), np.nan), np.full(len(X), np.nan)) if self.constrained else (None, None)
             for i, row in enumerate(X):
                 try:
-                    f[i] = self._scalar(row[None, :])[0]
+                    values = self._values(row[None, :])
+                    f[i] = values[0][0]
+                    if cv is not None:
+                        raw[i], cv[i] = values[1][0], values[2][0]
                 except (Exception, SystemExit) as e:  # noqa: BLE001 - a black box may raise anything
                     f[i] = np.nan
                     errors.append(f"{type(e).__name__}: {e}")
@@ -131,7 +162,7 @@ class Evaluator:
                 errors.append(f"{type(batch_error).__name__}: {batch_error}")
         failed = ~np.isfinite(f)
         if not failed.any():
-            return Evaluation(f, failed, errors)
+            return Evaluation(f, failed, errors, raw=raw, cv=cv)
         if len(errors) < failed.sum():  # failures that raised nothing
             errors.append("the objective returned a non-finite value (NaN or inf)")
-        return Evaluation(np.where(failed, np.inf, f), failed, errors)
+        return Evaluation(np.where(failed, np.inf, f), failed, errors, raw=raw, cv=cv)

@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .evaluation import Evaluation, Evaluator
+from .evaluation import Evaluation, Evaluator, violations
 
 __all__ = ["Ledger", "MultiEvaluator", "scalarization_weights", "nondominated", "hypervolume",
            "reference_point", "connect"]
@@ -80,24 +80,22 @@ class MultiEvaluator(Evaluator):
         self.weights = scalarization_weights(problem)
         self.ledger = Ledger()
 
-    def vectors(self, X: np.ndarray) -> np.ndarray:
+    def vectors(self, X: np.ndarray) -> tuple[np.ndarray, np.ndarray | None]:
+        """The (penalized) objective vectors of ``X`` and pymoo's ``CV`` (None: unconstrained)."""
         out = self.problem.evaluate(X, return_as_dictionary=True)
         F = np.asarray(out["F"], dtype=float).reshape(len(X), -1)
-        if self.constrained:
-            violation = np.zeros(len(X))
-            for key, fn in (("G", lambda a: np.maximum(a, 0)), ("H", np.abs)):
-                if out.get(key) is not None and np.size(out[key]):
-                    violation += fn(np.asarray(out[key], dtype=float).reshape(len(X), -1)).sum(axis=1)
-            F = F + self.constraint_penalty * violation[:, None]
-        return F
+        if not self.constrained:
+            return F, None
+        penalized, cv = violations(self.problem, out, len(X))
+        return F + self.constraint_penalty * penalized[:, None], cv
 
-    def _scalar(self, X: np.ndarray) -> np.ndarray:
-        F = self.vectors(X)
+    def _values(self, X: np.ndarray) -> tuple[np.ndarray, None, np.ndarray | None]:
+        F, cv = self.vectors(X)
         bad = ~np.isfinite(F).all(axis=1)
         F[bad] = np.inf
         self._batch.store(X, F)
         with np.errstate(invalid="ignore"):
-            return np.where(bad, np.nan, np.nan_to_num(F, posinf=0.0) @ self.weights)
+            return np.where(bad, np.nan, np.nan_to_num(F, posinf=0.0) @ self.weights), None, cv
 
     def __call__(self, X: np.ndarray) -> Evaluation:
         """The scalar evaluation, with the batch's vectors in ``F`` (``inf`` rows for non-finite

@@ -22,7 +22,7 @@ from typing import Any, Callable, Iterable, Iterator
 import numpy as np
 
 from .errors import EvoplanError
-from .evaluation import Evaluation, stack_vectors
+from .evaluation import Evaluation, stack_column, stack_vectors
 from .process_pool import ProcessPool, _outcome
 
 SCHEDULER_TIMEOUT = 5.0  # seconds to reach a scheduler, and to see its first worker
@@ -285,7 +285,8 @@ class ParallelEvaluator:
         results = [_join([r], self.pool.name) for r in results]
         errors = list(dict.fromkeys(m for r in results for m in r.errors))
         return Evaluation(np.concatenate([r.f for r in results]), np.concatenate([r.failed for r in results]), errors,
-                          stack_vectors(results))
+                          stack_vectors(results), stack_column(results, "raw"),
+                          stack_column(results, "cv"))
 
     def _outcomes(self, parts: list) -> list:
         outcomes = self.pool.call(self._handle, parts)
@@ -303,7 +304,8 @@ def _join(outcomes: list, backend: str) -> Evaluation:
              _failed(1, f"evaluation backend {backend}: {type(r).__name__}: {str(r).splitlines()[0][:300] if str(r) else ''}")
              for r in outcomes]
     return Evaluation(np.concatenate([r.f for r in parts]), np.concatenate([r.failed for r in parts]),
-                      list(dict.fromkeys(m for r in parts for m in r.errors)), stack_vectors(parts))
+                      list(dict.fromkeys(m for r in parts for m in r.errors)), stack_vectors(parts),
+                      stack_column(parts, "raw"), stack_column(parts, "cv"))
 
 
 def _failed(n: int, message: str) -> Evaluation:

@@ -158,8 +158,13 @@ def resume_state(prepared: Prepared, out: Path) -> RunState:
         raise ConfigError(f"{path}: cannot resume: {e}") from None
 
 
-def execute(prepared: Prepared, out: Path, resume: bool = False, progress: bool | None = None) -> RunState:
+def execute(prepared: Prepared, out: Path, resume: bool = False, progress: bool | None = None,
+            on_generation=None, wrap_evaluator=None) -> RunState:
     """Run to termination, checkpointing into ``out``, then write the results files.
+
+    ``on_generation(state)`` is called after each generation (after the progress bar);
+    ``wrap_evaluator(evaluator)`` returns the evaluator the engine calls instead (the Python
+    API watches the evaluations this way, :class:`evoplan.feasibility.FeasibleBest`).
 
     The evaluation backend is opened before the folder is touched (an unreachable scheduler
     leaves nothing behind); a new run writes its first checkpoint before the first evaluation,
@@ -186,8 +191,10 @@ def execute(prepared: Prepared, out: Path, resume: bool = False, progress: bool 
         evaluator = ParallelEvaluator(prepared.evaluator, pool, e.chunks) if pool else prepared.evaluator
         if pool and isinstance(prepared.evaluator, MultiEvaluator):
             evaluator = VectorsToLedger(evaluator, prepared.evaluator)  # the workers' vectors, kept here
+        if wrap_evaluator is not None:
+            evaluator = wrap_evaluator(evaluator)
         with _progress_bar(prepared.termination, state, progress) as update:
-            run(state, prepared.search, evaluator, prepared.termination, checkpointer, update)
+            run(state, prepared.search, evaluator, prepared.termination, checkpointer, _chain(update, on_generation))
         write_results(prepared, state, out)
     except ObjectiveShapeError as err:  # a bug of the problem, found in the first batch
         if folder is not None and not state.history:
@@ -205,6 +212,12 @@ def execute(prepared: Prepared, out: Path, resume: bool = False, progress: bool 
         if folder is not None:
             folder.release()
     return state
+
+
+def _chain(*hooks):
+    """One ``on_generation`` function calling each of ``hooks`` that is not None, in order."""
+    hooks = [h for h in hooks if h is not None]
+    return (lambda state: [h(state) for h in hooks]) if len(hooks) > 1 else hooks[0]
 
 
 class _progress_bar:

@@ -10,7 +10,7 @@ from __future__ import annotations
 from typing import Literal
 
 import numpy as np
-from pydantic import BaseModel, ConfigDict, Field, model_validator
+from pydantic import AliasChoices, BaseModel, ConfigDict, Field, model_validator
 
 from ..operators import crossover, elitism, fitness, mutation, selection
 from .base import Algorithm
@@ -44,12 +44,20 @@ class MutationConfig(_Strict):
 
 class GAConfig(_Strict):
     name: Literal["ga"] = "ga"
-    population: int = Field(20, ge=2)
+    population: int = Field(20, ge=2, validation_alias=AliasChoices("population", "pop_size"),
+                            description="host population size (pymoo's name pop_size is accepted too)")
     elitism: int = Field(1, ge=0, description="fittest individuals copied unchanged")
     fitness: FitnessConfig = FitnessConfig()
     selection: SelectionConfig = SelectionConfig()
     crossover: CrossoverConfig = CrossoverConfig()
     mutation: MutationConfig = MutationConfig()
+
+    @model_validator(mode="before")
+    @classmethod
+    def _one_population_name(cls, data):
+        if isinstance(data, dict) and "population" in data and "pop_size" in data:
+            raise ValueError(f"give population or pop_size, not both ({data['population']} and {data['pop_size']})")
+        return data
 
     @model_validator(mode="after")
     def _elite_below_population(self):
