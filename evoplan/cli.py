@@ -21,8 +21,10 @@ from .errors import EvoplanError
 class OneLineParser(argparse.ArgumentParser):
     """argparse with its usage errors on one line (``evoplan: error: ...``, exit 2); ``-h`` shows usage."""
 
+    command_hint: str | None = None  # the command being parsed, for errors the top level reports
+
     def error(self, message: str):
-        command = self.prog.removeprefix("evoplan").strip()
+        command = self.prog.removeprefix("evoplan").strip() or self.command_hint
         hint = f" (evoplan {command} -h for usage)" if command else " (evoplan -h for usage)"
         self.exit(2, f"evoplan: error: {' '.join(message.split())}{hint}\n")
 
@@ -38,6 +40,8 @@ def build_parser(argv: list[str] | None = None) -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"evoplan {__version__}")
     sub = parser.add_subparsers(dest="command", required=True)
     chosen = None if argv is None else _command(argv)
+    if chosen in COMMANDS:  # unrecognized options are reported by the top level: name the command
+        parser.command_hint = chosen
     for name, text in COMMANDS.items():
         if argv is None or name == chosen:
             module = importlib.import_module(f"evoplan.commands.{name}")

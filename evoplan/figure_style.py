@@ -4,8 +4,9 @@
   deficiencies); variant ``i`` takes colour ``i mod 8``, marker ``i mod 7`` and a dashed line
   from the ninth on, so up to 56 variants differ in colour *and* marker, and 16 in all three.
 - **Legends** go outside the data, to the right of the axes (:func:`legend_outside`).
-- **Units**: :func:`label` names a criterion with its unit (``machining error (mm)``); lengths
-  are mm, times min. Axes with a unit print plain numbers (``1300``, not ``1.3x10^3``).
+- **Units**: :func:`label` names a criterion with its unit (``machining error (mm)``), and
+  :func:`gene_text` a decision with its own (``step-over 30 % of D``, ``lead 2°``); lengths
+  are mm, times min, angles degrees. Axes with a unit print plain numbers (``1300``, not ``1.3x10^3``).
 - **Floors**: a value clamped to a floor on a log axis is drawn there with a dotted line that
   says so (:func:`mark_floor`).
 - **Bands** say what they are in their legend entry (:func:`band_label`).
@@ -22,6 +23,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.ticker import FuncFormatter  # noqa: E402
+
+from .units import GENE_UNITS  # noqa: E402
 
 #: Okabe & Ito (2008), "Color Universal Design"; black last (it doubles as the text colour)
 PALETTE = ("#E69F00", "#56B4E9", "#009E73", "#F0E442", "#0072B2", "#D55E00", "#CC79A7", "#000000")
@@ -52,6 +55,16 @@ def label(name: str, unit: str | None = None) -> str:
     unit = unit if unit is not None else UNITS.get(name)
     text = name.replace("_", " ")
     return f"{text} ({unit})" if unit else text
+
+
+def gene_text(name: str, value: float) -> str:
+    """A decision with its unit: ``step-over 30 % of D``, ``lead 2.5°``, ``step 2 mm``."""
+    unit = GENE_UNITS.get(name, "")
+    text = "step-over" if name == "stepover" else name.replace("_", " ")
+    number = f"{value:.4g}"
+    if unit == "deg":
+        return f"{text} {number}°"
+    return f"{text} {number} {unit}" if unit and unit != name else f"{text} {number}"
 
 
 def plain_numbers(ax, axis: str = "y") -> None:

@@ -46,8 +46,7 @@ def refuse_repeat(seen: dict[str, str], key: str, text: str) -> None:
     seen[key] = text
 
 
-def add_argument(parser) -> None:
-    """The ``--set`` option of ``run`` and ``study``."""
+def add_argument(parser, example: str = "--set algorithm.population=30 --set termination.generations=100") -> None:
+    """The ``--set`` option of ``run``, ``study`` and ``machine`` (``example``: for its help)."""
     parser.add_argument("--set", dest="settings", action="append", default=[], metavar="KEY.PATH=VALUE",
-                        help="change a setting of the file, e.g. --set algorithm.population=30 "
-                             "--set termination.generations=100 (repeatable)")
+                        help=f"change a setting of the file, e.g. {example} (repeatable)")

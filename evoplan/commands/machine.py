@@ -1,4 +1,4 @@
-"""``evoplan machine CONFIG --out DIR [--from-run RUN]``: the NC operation set for one surface.
+"""``evoplan machine CONFIG --out DIR [--set KEY.PATH=VALUE] [--from-run RUN]``: the NC operation set for one surface.
 
 Roughing from a block (Abbas' morphing layers or z-level, flat end mill, zig-zag, checked on a
 stock Z-map), semi-finish (ball end on the exact normal offset, 3-axis) and finish (the
@@ -119,6 +119,9 @@ def add_parser(sub) -> argparse.ArgumentParser:
     p = sub.add_parser("machine", help=COMMANDS["machine"])
     p.add_argument("config", help="YAML machining file (e.g. runs/abbas_gentle.yaml)")
     p.add_argument("--out", help="results folder (default: results/<name>-<time>)")
+    from ..overrides import add_argument
+
+    add_argument(p, "--set roughing.max_depth=1.5 --set finish.params.stepover=25")
     p.add_argument("--from-run", dest="from_run", help="a finished toolpath run: finish with its best plan")
     p.add_argument("--quiet", action="store_true", help="no progress line")
     p.add_argument("--check", action="store_true",
@@ -127,8 +130,11 @@ def add_parser(sub) -> argparse.ArgumentParser:
     return p
 
 
-def load(path: str) -> MachineConfig:
-    data = read_yaml(path)
+def load(path: str, settings: list[str] = ()) -> MachineConfig:
+    """The machining file ``path`` with the ``--set`` items applied, validated."""
+    from ..overrides import apply_settings
+
+    data = apply_settings(read_yaml(path), list(settings), str(path))
     data.setdefault("name", Path(path).stem)
     try:
         return MachineConfig.model_validate(data)
@@ -164,7 +170,7 @@ def main(args: argparse.Namespace) -> int:
 
     require("ezdxf", "exchange", "evoplan machine (surface.dxf, toolpaths.dxf)")
     require("stl", "exchange", "evoplan machine (surface.stl)")
-    cfg = load(args.config)
+    cfg = load(args.config, getattr(args, "settings", []))
     out = Path(args.out or Path("results") / f"{cfg.name}-{time.strftime('%Y%m%d-%H%M%S')}")
     check_out(out)
     plan = plan_from_run(Path(args.from_run)) if args.from_run else None

@@ -26,7 +26,7 @@ def add_parser(sub) -> argparse.ArgumentParser:
     p.add_argument("--workers", type=int, help="worker processes (default: one per CPU)")
     p.add_argument("--scheduler", metavar="ADDRESS", help="Dask scheduler, e.g. tcp://10.0.0.5:8786 "
                                                           "(default with --backend dask: a local cluster)")
-    add_argument(p)
+    add_argument(p, "--set seeds=5 --set budget.evaluations=500")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     return p
 

@@ -132,20 +132,25 @@ def add_moves(fig, mv: Moves, *, prefix: str = "", cc: np.ndarray | None = None,
     keep, tol = fit_budget(mv.tip[idx], run, POINT_BUDGET)
     idx, run = idx[keep], run[keep]
     word = mv.group_word
-    groups = np.unique(mv.zone[idx]) if len(idx) else np.array([], int)
+    # a run's first point is where it starts from (a rapid's or the previous pass's end): it
+    # belongs to the run's zone and pass, those of the run's last point
+    last = np.r_[np.flatnonzero(np.diff(run) != 0), len(run) - 1] if len(run) else np.array([], int)
+    of_run = np.cumsum(np.r_[0, np.diff(run) != 0]) if len(run) else np.array([], int)
+    zone, pass_of = mv.zone[idx][last][of_run], mv.pass_index[idx][last][of_run]
+    groups = np.unique(zone) if len(idx) else np.array([], int)
     if colour is not None:  # one trace for all the operation's cuts
         groups = groups[:1]
     for k, z in enumerate(groups):
-        sel = mv.zone[idx] == z if colour is None else np.ones(len(idx), bool)
+        sel = zone == z if colour is None else np.ones(len(idx), bool)
         pts, gap = _nan_join(mv.tip[idx[sel]], run[sel])
-        passes = np.insert(mv.pass_index[idx[sel]], np.flatnonzero(np.diff(run[sel]) != 0) + 1, 0)
+        passes = np.insert(pass_of[sel], np.flatnonzero(np.diff(run[sel]) != 0) + 1, 0)
         label = f"{prefix}{word} {z}" if z >= 0 and colour is None else f"{prefix}cuts"
         hover = [f"{label}, pass {p}" if word == "zone" else label for p in passes]
         line = dict(width=3)
         if colour is not None:
             line["color"] = colour
         elif word == "zone":
-            line.update(color=passes, colorscale=SEQ[k % len(SEQ)], cmin=-0.3 * max(passes.max(), 1),
+            line.update(color=passes, colorscale=SEQ[k % len(SEQ)], cmin=-max(passes.max(), 1),  # pass 0 mid-scale
                         cmax=max(passes.max(), 1))
         else:
             line["color"] = ZONE_HUE[k % len(ZONE_HUE)]

@@ -2,23 +2,18 @@
 
 from __future__ import annotations
 
+import zipfile
 from pathlib import Path
 
 import numpy as np
 
 from ..errors import ConfigError
+from ..units import GENE_UNITS
 from .folder import read_csv, read_json
 from .page import Section, note, table
 
 #: units of the toolpath problem's decisions (problems/toolpath/genes.py)
-DECISION_UNITS = {"tool": "index in the tool list", "stepover": "% of D", "lead": "deg",
-                  "tilt": "deg", "step": "mm"}
-#: paths longer than this are drawn decimated, each dropped point within DISPLAY_TOLERANCE
-DECIMATE_ABOVE = 20_000
-DISPLAY_TOLERANCE = 0.01  # mm
-#: plotly's default qualitative colours, one per section of the path (cycled)
-COLOURS = ("#636EFA", "#EF553B", "#00CC96", "#AB63FA", "#FFA15A", "#19D3F3", "#FF6692",
-           "#B6E880", "#FF97FF", "#FECB52")
+DECISION_UNITS = {**GENE_UNITS, "tool": "index in the tool list"}
 
 
 def sections(folder: Path) -> list[Section]:
@@ -64,8 +59,10 @@ def convergence(path: Path):
     values = values[np.isfinite(values)]
     log = values.size and values.min() > 0 and values.max() / values.min() > 100
     fig.update_xaxes(tickformat="d", dtick=1 if len(gen) <= 12 else None)
-    if log:  # labels at 1, 2 and 5 of each decade (plotly's default crowds 1..9 together)
-        fig.update_yaxes(dtick="D2")
+    if log:  # plotly's default crowds 1..9 of every decade together
+        decades = np.log10(values.max() / values.min())
+        # up to 3 decades: labels at 1, 2 and 5 of each; beyond: one label every k decades (<= 8 labels)
+        fig.update_yaxes(dtick="D2" if decades <= 3 else int(np.ceil(decades / 8)), exponentformat="power")
     fig.update_layout(xaxis_title="generation", yaxis_title="objective (minimized)",
                       yaxis_type="log" if log else "linear", hovermode="x unified",
                       height=460, margin=dict(l=60, r=20, t=30, b=50),
@@ -97,105 +94,44 @@ def best_table(path: Path) -> str:
 
 
 def toolpath(path: Path) -> list:
-    """The APT toolpath in 3D, one colour per section (zone/pass), rapids dashed, equal scales."""
-    import plotly.graph_objects as go
-
-    from ..problems.toolpath.export.apt_read import AptError, read_apt
+    """The APT toolpath in 3D (:func:`.paths.toolpath_figure`: one hue per zone, a shade per
+    pass, links and rapids dashed, equal scales, cuts decimated by Ramer-Douglas-Peucker within
+    the stated tolerance), over the part and with the CC points and the criteria of
+    ``toolpath.npz`` when the run wrote one."""
+    from ..problems.toolpath.export.apt_read import AptError
+    from .paths import read_moves, surface_trace, toolpath_figure
 
     try:
-        apt = read_apt(path)
+        moves = read_moves(path, "finish")
     except AptError as e:
         raise ConfigError(f"{path}: {e}") from None
     except (OSError, UnicodeDecodeError) as e:
         raise ConfigError(f"{path}: unreadable ({e})") from None
-    tip, rapid, section = apt.tip, np.asarray(apt.rapid, bool), np.asarray(apt.section)
-    drawn = ""
-    if len(tip) > DECIMATE_ABOVE:
-        keep = decimate(tip, rapid, section, DISPLAY_TOLERANCE)
-        worst = deviation(tip, keep)
-        if worst <= DISPLAY_TOLERANCE:
-            tip, rapid, section = tip[keep], rapid[keep], section[keep]
-            drawn = (f" Drawn with {int(keep.sum())} of its points: the points left out lie at most "
-                     f"{worst:.4f} mm from the drawn line (display tolerance {DISPLAY_TOLERANCE:g} mm).")
-    fig = go.Figure()
-    hover = "x %{x:.3f}<br>y %{y:.3f}<br>z %{z:.3f}<extra>%{fullData.name}</extra>"
-    # cutting moves: point i joins i-1 by a feed move; a new trace per section
-    for s in np.unique(section):
-        if s < 0:
-            continue
-        idx = np.flatnonzero(section == s)
-        # break the line where the move into a point is a rapid (drawn separately)
-        xyz = _polyline(tip, idx, ~rapid)
-        fig.add_trace(go.Scatter3d(x=xyz[:, 0], y=xyz[:, 1], z=xyz[:, 2], mode="lines",
-                                   line=dict(width=4, color=COLOURS[int(s) % len(COLOURS)]),
-                                   name=apt.sections[int(s)].lower(), hovertemplate=hover,
-                                   legendgroup="cut"))
-    moves = np.flatnonzero(rapid[1:]) + 1
-    if moves.size:
-        segs = np.full((3 * moves.size, 3), np.nan)
-        segs[0::3], segs[1::3] = tip[moves - 1], tip[moves]
-        fig.add_trace(go.Scatter3d(x=segs[:, 0], y=segs[:, 1], z=segs[:, 2], mode="lines",
-                                   line=dict(width=2, color="#555", dash="dash"),
-                                   name="rapids", hovertemplate=hover))
-    fig.update_layout(scene=dict(aspectmode="data", xaxis_title="x (mm)", yaxis_title="y (mm)",
-                                 zaxis_title="z (mm)", camera=dict(eye=dict(x=1.5, y=-1.6, z=1.1))),
-                      height=720,
-                      margin=dict(l=0, r=0, t=30, b=0))
-    tool = f"tool D{apt.diameter:g} r{apt.corner_radius:g} mm"
-    text = (f"{len(apt)} points in {len(apt.sections)} sections, {int(rapid.sum())} rapid moves, "
-            f"{tool}; one colour per zone/pass section (click the legend to hide one), rapids dashed, "
-            f"equal axis scales.{drawn}")
-    return [note(text), fig]
+    data = plan_data(path.parent / "toolpath.npz")
+    part = surface_trace(data["surface"], name="part (toolpath.npz)") if data else None
+    fig, caption = toolpath_figure([moves], part=part, cc=data["cc"] if data else None, name="toolpath3d")
+    rapids = int((moves.kind[1:] == 2).sum())  # point 0 is reached from anywhere: not a move
+    text = (f"{len(moves.tip)} points, {rapids} rapid move{'s' if rapids != 1 else ''}, "
+            f"tool D{moves.diameter:g} mm; {caption}")
+    out = [note(text), fig]
+    if data and len(data["criteria_names"]):
+        from .units import criterion_unit
 
-
-def deviation(tip: np.ndarray, keep: np.ndarray) -> float:
-    """Largest distance of a point to the segment of kept points that brackets it (an upper
-    bound of its distance to the drawn line)."""
-    k = np.flatnonzero(keep)
-    if len(k) < 2:
-        return 0.0
-    seg = np.clip(np.searchsorted(k, np.arange(len(tip)), side="right") - 1, 0, len(k) - 2)
-    a, ab = tip[k[seg]], tip[k[seg + 1]] - tip[k[seg]]
-    t = np.clip(np.einsum("ij,ij->i", tip - a, ab) / np.maximum(np.einsum("ij,ij->i", ab, ab), 1e-300), 0, 1)
-    return float(np.linalg.norm(a + t[:, None] * ab - tip, axis=1).max())
-
-
-def decimate(tip: np.ndarray, rapid: np.ndarray, section: np.ndarray, tolerance: float,
-             passes: int = 6) -> np.ndarray:
-    """Which points to draw so that every point left out lies within ``tolerance`` of the line.
-
-    Each pass looks at every other kept point whose neighbours are in its section and reached
-    by feed moves, and drops it when it lies within ``tolerance / passes`` of the segment
-    joining its kept neighbours. A dropped point's distance to the final line is at most the
-    sum of the passes' tolerances in the usual case; :func:`deviation` measures it, and the
-    report draws every point when the measure exceeds the tolerance.
-    """
-    keep = np.ones(len(tip), bool)
-    step = tolerance / passes
-    for _ in range(passes):
-        k = np.flatnonzero(keep)
-        j = np.arange(1, len(k) - 1, 2)
-        if j.size == 0:
-            break
-        a, p, b = k[j - 1], k[j], k[j + 1]
-        ok = (section[a] == section[p]) & (section[p] == section[b]) & ~rapid[p] & ~rapid[b]
-        ab = tip[b] - tip[a]
-        t = np.clip(np.einsum("ij,ij->i", tip[p] - tip[a], ab) / np.maximum(np.einsum("ij,ij->i", ab, ab), 1e-300), 0, 1)
-        dist = np.linalg.norm(tip[a] + t[:, None] * ab - tip[p], axis=1)
-        drop = p[ok & (dist < step)]
-        if drop.size == 0:
-            break
-        keep[drop] = False
-    return keep
-
-
-def _polyline(tip: np.ndarray, idx: np.ndarray, fed: np.ndarray) -> np.ndarray:
-    """Points ``idx`` joined by feed moves, with a NaN gap before each point reached by a rapid
-    and between non-consecutive indices."""
-    gap = np.zeros(idx.size, bool)
-    gap[1:] = (np.diff(idx) != 1) | ~fed[idx[1:]]
-    n = idx.size + int(gap.sum())
-    out = np.full((n, 3), np.nan)
-    pos = np.arange(idx.size) + np.cumsum(gap)
-    out[pos] = tip[idx]
+        rows = [[n, f"{v:.6g}", criterion_unit(n)] for n, v in zip(data["criteria_names"], data["criteria_values"])]
+        out.append(table(["criterion (toolpath.npz)", "value", "unit"], rows))
     return out
+
+
+def plan_data(path: Path) -> dict | None:
+    """``toolpath.npz`` (the part sampled on a (u, v) grid, the CC points, the criteria) as
+    arrays, read without pickles; None when absent, a one-line error naming it when broken."""
+    if not path.is_file():
+        return None
+    try:
+        with np.load(path, allow_pickle=False) as z:
+            data = {k: z[k] for k in ("surface", "cc", "criteria_names", "criteria_values")}
+    except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile) as e:
+        raise ConfigError(f"{path}: unreadable ({' '.join(str(e).split())[:200]})") from None
+    if data["surface"].ndim != 3 or data["surface"].shape[-1] != 3 or data["cc"].ndim != 2:
+        raise ConfigError(f"{path}: surface must be (n, m, 3) and cc (k, 3) points")
+    return data

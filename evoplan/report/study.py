@@ -73,7 +73,7 @@ def _ecdf_and_cd(folder: Path) -> list[Section]:
     if not {"key", "optimum", "budget", "evaluations"} <= set(runs.columns):  # not the runner's runs.csv
         return []
     for col in ("factor", "level"):
-        runs[col] = runs[col].fillna("") if col in runs else ""
+        runs[col] = runs[col].astype(object).fillna("") if col in runs else ""  # all-empty: read as float
     runs["variant"] = variant_of(runs)
     colours = variant_colours(runs["variant"])
     out = [Section("Fixed-target ECDF", [ecdf_figure(runs, folder, colours), note(
@@ -81,7 +81,7 @@ def _ecdf_and_cd(folder: Path) -> list[Section]:
         "known optimum, else the best value any run found; runtimes at evaluation granularity (traces/).")])]
     if (folder / "nemenyi.csv").is_file():
         nem = read_csv(folder / "nemenyi.csv")
-        nem["factor"] = nem["factor"].fillna("")
+        nem["factor"] = nem["factor"].astype(object).fillna("")
         out.append(Section("Critical-difference diagram", [cd_figure(nem, colours), note(
             "Mean ranks over the repetitions; colours are the variants' (the same in every figure), not their "
             "ranks.")]))

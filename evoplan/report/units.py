@@ -3,17 +3,7 @@ and the criteria (the criteria table's ``unit``), so every decision and criterio
 
 from __future__ import annotations
 
-GENE_UNITS = {
-    "tool": "tool id",
-    "stepover": "% of D",
-    "lead": "deg",
-    "tilt": "deg",
-    "step": "mm",
-    "zones": "zones",
-    "k_lz": "",
-    "feed_angle": "deg",
-    "h_c": "mm",
-}
+from ..units import GENE_UNITS  # noqa: F401 - one table for the figures and the report
 
 
 def criterion_unit(name: str) -> str:

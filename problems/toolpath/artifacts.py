@@ -21,34 +21,54 @@ import numpy as np
 
 from .criteria.analytic import eq4_total, plan_lengths
 
-__all__ = ["plan_artifacts", "zone_map_png", "report_data"]
+__all__ = ["plan_artifacts", "zone_map_figure", "zone_map_png", "report_data", "zoning_text"]
 
 REPORT_MESH = 61  # (u, v) samples per side of the part in toolpath.npz
 
 
+def zoning_text(method: str, genes: dict, zones: int) -> str:
+    """What the zoning made, against what its gene asked: ``kmeans with K = 4 gave 1 zone``
+    (the zones of K-means are split into connected parts and then merged by Eq. 4, so the
+    count differs from K)."""
+    made = f"{zones} zone{'s' if zones != 1 else ''}"
+    if "zones" not in genes:
+        return f"{method}: {made}"
+    symbol = {"kmeans": "K", "amas": "k_lz"}.get(method, "zones")
+    return f"{method} with {symbol} = {float(genes['zones'][0]):.4g} gave {made}"
+
+
 def _title(problem, genes, batch) -> str:
+    from evoplan.figure_style import gene_text
+
     parts = []
     for name, value in genes.items():
         v = value[0]
         if name == "tool":
             tool = problem.tool_db.tools[int(v)]
             parts.append(f"tool {tool.id} ({tool.label()})")
-        else:
-            parts.append(f"{name} {v:.4g}")
-    zoning = problem.planner.layouts.method.name
-    zones = float(batch.zones[0])
+        elif name != "zones":
+            parts.append(gene_text(name, float(v)))
+    zones = int(batch.zones[0])
     cutting = float(plan_lengths(batch)["cutting_length"][0])
-    parts.append(f"{problem.machine}, {zoning}: {zones:.0f} zone(s), cutting {cutting:.1f} mm, "
-                 f"Eq. 4 total {eq4_total(cutting, zones, problem.delta_l):.1f} mm")
+    parts.append(f"{problem.machine}, {zoning_text(problem.planner.layouts.method.name, genes, zones)}, "
+                 f"cutting {cutting:.1f} mm, Eq. 4 total {eq4_total(cutting, zones, problem.delta_l):.1f} mm")
     return ", ".join(parts)
 
 
-def zone_map_png(surface, batch, labels, title: str = "") -> bytes:
-    """PNG bytes: plan 0 of ``batch`` in plan view (XY), its zones (``labels`` (n, m) on the
-    parametric mesh, or None for one zone) with their borders, and its sections."""
-    import matplotlib
+def plan_limits(corners: np.ndarray, lines: list, margin: float = 0.03) -> tuple[tuple, tuple]:
+    """x and y limits holding the part (``corners``) and every drawn section, run-on and
+    run-off past the part's edges included, with ``margin`` of the span on each side."""
+    xy = np.concatenate([corners[..., :2].reshape(-1, 2), *lines]) if lines else corners[..., :2].reshape(-1, 2)
+    lo, hi = xy.min(axis=0), xy.max(axis=0)
+    pad = margin * (hi - lo).max()
+    return (lo[0] - pad, hi[0] + pad), (lo[1] - pad, hi[1] + pad)
 
-    matplotlib.use("Agg")
+
+def zone_map_figure(surface, batch, labels, title: str = ""):
+    """Plan 0 of ``batch`` in plan view (XY): its zones (``labels`` (n, m) on the parametric
+    mesh, or None for one zone) with their borders, and its sections, all inside the axes."""
+    from evoplan.figure_style import figure  # sets the Agg backend before pyplot loads
+
     import matplotlib.pyplot as plt
     from matplotlib.collections import LineCollection
 
@@ -59,7 +79,8 @@ def zone_map_png(surface, batch, labels, title: str = "") -> bytes:
     zones = int(batch.zones[0])
     gu, gv = np.meshgrid(np.linspace(0, 1, n + 1), np.linspace(0, 1, m + 1), indexing="ij")
     corners = surface.points(gu.ravel(), gv.ravel()).reshape(n + 1, m + 1, 3)
-    fig, ax = plt.subplots(figsize=(7.5, 8), dpi=110)
+    fig, (ax,) = figure(1, width=7.5, height=8)
+    ax.grid(False)
     cmap = plt.get_cmap("tab20", max(zones, 1))
     ax.pcolormesh(corners[..., 0], corners[..., 1], labels, cmap=cmap, alpha=0.35,
                   vmin=-0.5, vmax=zones - 0.5, shading="flat")
@@ -79,15 +100,18 @@ def zone_map_png(surface, batch, labels, title: str = "") -> bytes:
         cx, cy = pts.mean(axis=0)
         ax.annotate(f"{z}: {deg:.0f}°\n{length:.0f} mm", (cx, cy), ha="center", va="center",
                     fontsize=7, bbox=dict(boxstyle="round", fc="white", alpha=0.7, lw=0))
+    xlim, ylim = plan_limits(corners, lines)
+    ax.set(xlim=xlim, ylim=ylim, xlabel="X (mm)", ylabel="Y (mm)")
     ax.set_aspect("equal")
-    ax.set_xlabel("X (mm)")
-    ax.set_ylabel("Y (mm)")
     ax.set_title("\n".join(textwrap.wrap(title, 90)), fontsize=8)
-    buf = io.BytesIO()
-    fig.tight_layout()
-    fig.savefig(buf, format="png")
-    plt.close(fig)
-    return buf.getvalue()
+    return fig
+
+
+def zone_map_png(surface, batch, labels, title: str = "") -> bytes:
+    """:func:`zone_map_figure` as PNG bytes."""
+    from evoplan.figure_style import png
+
+    return png(zone_map_figure(surface, batch, labels, title))
 
 
 def report_data(problem, batch, genes, path) -> bytes:

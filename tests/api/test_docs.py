@@ -37,6 +37,9 @@ def test_site_builds_strict_with_every_page_and_key(tmp_path):
     assert "<code>algorithm.virus.infectivity_force</code>" in run_files
     reference = (site / "reference" / "index.html").read_text()
     assert "minimize" in reference and "AskTell" in reference and "ToolpathProblem" in reference
+    # docstrings' Sphinx roles render as links (docs/_hooks/sphinx_roles.py), never raw
+    assert not re.search(r":(func|class|meth|mod|attr):", reference)
+    assert 'href="#evoplan.api.minimize"><code>minimize</code></a>' in reference
 
 
 def test_code_cites_only_files_in_the_repository():

@@ -59,8 +59,7 @@ def test_run_report_renders_offline(toolpath_run, tmp_path):
     top = image[:900]
     orange = (np.abs(top - [0xD5, 0x5E, 0x00]).sum(axis=2) < 40).sum()
     assert orange > 300
-    # the 3D scene drew the passes (plotly's first colours #636EFA, #EF553B) below it
+    # the 3D scene drew zone 0's passes below it (the Blues scale, a shade per pass)
     low = image[900:]
-    blue = (np.abs(low - [0x63, 0x6E, 0xFA]).sum(axis=2) < 40).sum()
-    red = (np.abs(low - [0xEF, 0x55, 0x3B]).sum(axis=2) < 40).sum()
-    assert blue > 50 and red > 50
+    blue = (low[..., 2] - low[..., 0] > 60) & (low[..., 2] > 90)
+    assert blue.sum() > 50

@@ -54,16 +54,44 @@ def test_toolpath_run_draws_passes_rapids_dashed_equal_axes(toolpath_run, capsys
     html = (toolpath_run / "report.html").read_text()
     assert html.count("Plotly.newPlot") == 2
     assert '"aspectmode":"data"' in html
-    assert "zone 0 pass 0" in html and "zone 0 pass 1" in html
-    assert "8 points in 2 sections, 2 rapid moves, tool D10 r0 mm" in html
+    assert "8 points, 1 rapid move, tool D10 mm" in html
+    assert "decimated within 0.005 mm of the programmed path" in html  # the one decimation, stated
     traces = {t["name"]: t for t in figures(html)[1]}
-    assert set(traces) == {"zone 0 pass 0", "zone 0 pass 1", "rapids"}
+    assert {"zone 0", "rapids"} <= set(traces) and "cuts" not in traces  # no stray group of start points
     rapids = traces["rapids"]
     assert rapids["line"]["dash"] == "dash"
     # the rapid out of pass 0: from its last point (20, 0, 2) up to (20, 5, 20)
     assert [values(rapids[k])[:3] for k in "xyz"] == [[20, 20, None], [0, 5, None], [2, 20, None]]
-    assert values(traces["zone 0 pass 1"]["x"]) == [20, 10, 0]
-    assert values(traces["zone 0 pass 0"]["x"])[:4] == [0, 10, 20, None]  # broken before the rapid
+    cut = traces["zone 0"]
+    assert values(cut["x"]).count(None) == 1  # passes 0 and 1, broken at the rapid between them
+    assert values(cut["line"]["color"])[-1] == 1  # shaded by pass
+
+
+def test_toolpath_npz_adds_the_part_the_cc_points_and_the_criteria(toolpath_run):
+    from evoplan.report.run import plan_data
+
+    u, v = np.meshgrid(np.linspace(0, 1, 5), np.linspace(0, 1, 4), indexing="ij")
+    mesh = np.stack([20 * u, 5 * v, 0.1 * u], axis=-1)
+    np.savez_compressed(toolpath_run / "toolpath.npz", cc=mesh.reshape(-1, 3), zone=np.zeros(20, int),
+                        pass_index=np.zeros(20, int), surface=mesh, tolerance=0.01,
+                        criteria_names=np.array(["machining_time", "scallop_max"]),
+                        criteria_values=np.array([3.25, 0.0125]))
+    assert plan_data(toolpath_run / "toolpath.npz")["surface"].shape == (5, 4, 3)
+    assert main(["report", str(toolpath_run)]) == 0
+    html = (toolpath_run / "report.html").read_text()
+    traces = {t["name"]: t for t in figures(html)[1]}
+    assert traces["part (toolpath.npz)"]["type"] == "surface"
+    assert len(values(traces["CC points"]["x"])) == 20 and traces["CC points"]["visible"] == "legendonly"
+    assert "<td>machining_time</td><td>3.25</td><td>min</td>" in html
+    assert "<td>scallop_max</td><td>0.0125</td><td>mm</td>" in html
+
+
+def test_a_broken_toolpath_npz_is_one_line(toolpath_run, tmp_path, capsys):
+    (toolpath_run / "toolpath.npz").write_bytes(b"not a zip")
+    out = tmp_path / "r.html"
+    assert main(["report", str(toolpath_run), "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "toolpath.npz" in err and not out.exists()
 
 
 def test_problem_is_never_built(toolpath_run, monkeypatch):
@@ -106,29 +134,3 @@ def test_missing_plotly_names_the_extra(kubota_run, tmp_path, capsys, monkeypatc
     assert 'pip install "evoplan[report]"' in err and not out.exists()
 
 
-def test_decimation_keeps_every_dropped_point_within_the_tolerance():
-    from evoplan.report.run import decimate, deviation
-
-    rng = np.random.default_rng(3)
-    x = np.linspace(0, 100, 5001)
-    tip = np.column_stack([x, 5 * np.sin(x / 7), 0.0003 * rng.standard_normal(x.size)])
-    rapid = np.zeros(x.size, bool)
-    rapid[2500] = True  # a rapid move into point 2500: both of its ends stay
-    section = (x > 60).astype(int)
-    keep = decimate(tip, rapid, section, 0.01)
-    assert keep.sum() < x.size / 4  # the smooth curve needs far fewer points
-    assert keep[[0, 2499, 2500, -1]].all()
-    first = np.flatnonzero(section == 1)[0]
-    assert keep[first - 1] and keep[first]  # section ends stay
-    # distance of every original point to the drawn polyline (segments of kept neighbours)
-    k = np.flatnonzero(keep)
-    seg = np.searchsorted(k, np.arange(x.size), side="right") - 1
-    seg = np.clip(seg, 0, len(k) - 2)
-    a, b = tip[k[seg]], tip[k[seg + 1]]
-    ab = b - a
-    t = np.clip(((tip - a) * ab).sum(1) / (ab * ab).sum(1), 0, 1)
-    dist = np.linalg.norm(a + t[:, None] * ab - tip, axis=1)
-    assert dist.max() <= 0.01
-    assert deviation(tip, keep) == pytest.approx(dist.max())
-    assert deviation(tip, np.ones(x.size, bool)) == 0.0
-    assert decimate(tip, rapid, section, 0.0).all()  # no tolerance, nothing dropped

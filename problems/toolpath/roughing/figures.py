@@ -3,22 +3,26 @@ and the layers, and the section at the middle of the part in Y."""
 
 from __future__ import annotations
 
-import io
-
 import numpy as np
 
 
 def layers_png(stock, floor: np.ndarray, layers: np.ndarray, method: str, title: str = "") -> bytes:
-    """PNG bytes: left, the surface and every layer (wireframes); right, the section at mid Y
-    with the stock top, the layers (morphing: curves, z-level: the cut extents at each level)
-    and the allowance floor F."""
-    import matplotlib
+    """:func:`layers_figure` as PNG bytes."""
+    from evoplan.figure_style import png
 
-    matplotlib.use("Agg")
+    return png(layers_figure(stock, floor, layers, method, title))
+
+
+def layers_figure(stock, floor: np.ndarray, layers: np.ndarray, method: str, title: str = ""):
+    """Left, the surface and every layer (wireframes); right, the section at mid Y with the
+    stock top, the layers (morphing: curves, z-level: the cut extents at each level) and the
+    allowance floor F, its legend outside the data (right of the section)."""
+    from evoplan.figure_style import PALETTE, legend_outside  # sets the Agg backend first
+
     import matplotlib.pyplot as plt
 
     g = stock.grid
-    fig = plt.figure(figsize=(12, 5))
+    fig = plt.figure(figsize=(12, 5), dpi=110)
     ax3 = fig.add_subplot(1, 2, 1, projection="3d")
     X, Y = np.meshgrid(g.xs, g.ys)
     step = max(1, len(g.xs) // 30)
@@ -37,14 +41,10 @@ def layers_png(stock, floor: np.ndarray, layers: np.ndarray, method: str, title:
     for k, h in enumerate(stack):
         ax.plot(g.xs, h[row], color=plt.cm.autumn(k / max(1, len(stack) - 1)), linewidth=1,
                 label="layers" if k == 0 else None)
-    ax.plot(g.xs, floor[row], "b--", linewidth=1, label="allowance floor F")
-    ax.plot(g.xs, zs[row], "g", linewidth=2, label="surface")
+    ax.plot(g.xs, floor[row], ls="--", color=PALETTE[4], linewidth=1, label="allowance floor F")
+    ax.plot(g.xs, zs[row], color=PALETTE[2], linewidth=2, label="surface")
     ax.set_xlabel(f"X (mm), section at Y = {g.ys[row]:.1f} mm")
     ax.set_ylabel("Z (mm)")
-    ax.legend(loc="lower left", fontsize=8)
+    legend_outside(ax, fontsize=8)
     fig.suptitle(title or f"{method} roughing: {len(stack)} layers")
-    fig.tight_layout()
-    buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=110)
-    plt.close(fig)
-    return buf.getvalue()
+    return fig
