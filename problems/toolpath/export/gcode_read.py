@@ -30,6 +30,7 @@ from pathlib import Path
 import numpy as np
 
 from .apt_read import AptToolpath
+from .arcs import PLANES, arc_points
 
 INCH = 25.4
 WORD = re.compile(r"([A-Z])\s*([+-]?(?:\d+\.?\d*|\.\d+))")
@@ -39,7 +40,6 @@ IGNORED_G = {"40", "49", "54", "55", "56", "57", "58", "59", "80", "94", "64", "
 REFUSED_G = {"28": "a reference return (G28)", "30": "a reference return (G30)", "16": "polar coordinates (G16)",
              "68": "a rotated plane (G68)", "68.2": "a tilted working plane (G68.2)", "17.1": "a tilted plane",
              "2.1": "a spiral", "12.1": "polar interpolation", "7.1": "cylindrical interpolation"}
-PLANES = {"17": (0, 1, 2), "18": (2, 0, 1), "19": (1, 2, 0)}  # (first, second, normal) axes
 
 
 class GcodeError(ValueError):
@@ -184,7 +184,7 @@ def read_gcode(path: str | Path, diameter: float, corner_radius: float = 0.0, ki
 
 def _arc(n, start, end, arc, plane, clockwise, tol):
     """Points strictly inside the arc from start to end (the end is added by the caller)."""
-    a, b, c = PLANES[plane]
+    a, b, _ = PLANES[plane]
     p0, p1 = np.array([start[a], start[b]]), np.array([end[a], end[b]])
     if "R" in arc:
         r = arc["R"]
@@ -207,18 +207,6 @@ def _arc(n, start, end, arc, plane, clockwise, tol):
                                 f"not the radius {r:.4f}")
     if r <= 0:
         raise GcodeError(n, "an arc of zero radius")
-    t0 = math.atan2(*(p0 - centre)[::-1])
-    t1 = math.atan2(*(p1 - centre)[::-1])
-    sweep = (t0 - t1) % (2 * math.pi) if clockwise else (t1 - t0) % (2 * math.pi)
-    if sweep < 1e-12:
-        sweep = 2 * math.pi
-    step = 2 * math.acos(max(-1.0, 1 - tol / r)) if tol < r else math.pi / 2
-    k = max(1, int(math.ceil(sweep / step - 1e-12)))
-    out = []
-    for i in range(1, k):
-        t = t0 + (-1 if clockwise else 1) * sweep * i / k
-        q = np.empty(3)
-        q[a], q[b] = centre[0] + r * math.cos(t), centre[1] + r * math.sin(t)
-        q[c] = start[c] + (end[c] - start[c]) * i / k
-        out.append(q)
-    return out
+    c3 = np.array(start, float)
+    c3[a], c3[b] = centre
+    return list(arc_points(start, end, c3, plane, clockwise, tol))

@@ -14,7 +14,11 @@ malformed or foreign line into an error, which is what the round-trip tests need
 
 A dialect subclasses :class:`Post`, sets ``name``/``five_axis``, writes ``header``,
 ``block`` and ``footer``, and parses its own lines in ``parse_line``; ``@register`` adds it
-to ``POSTS``.
+to ``POSTS``. A dialect that has circular interpolation declares ``arcs = True``: with a
+machine ``tolerance``, its programs then carry ``G2`` / ``G3`` arcs fitted within that chord
+tolerance (``export/arcs.py``). Any post, given a ``tolerance``, merges collinear and
+near-collinear cutting points within it (5-axis posts only where the rotaries hold still,
+which a 3-axis roughing path does).
 """
 
 from __future__ import annotations
@@ -57,6 +61,7 @@ class Machine:
     program_number: int = 1000
     clearance: float = 10.0
     safe_z: float | None = None
+    tolerance: float | None = None  # chord tolerance of point reduction and arcs (None: every point)
 
     def plane(self, tp: Toolpath) -> float:
         """The clearance plane's Z for this toolpath."""
@@ -84,6 +89,7 @@ class Post:
     name = ""
     five_axis = True
     extension = ".nc"
+    arcs = False  # the dialect writes (and reads back) G2 / G3 arcs in G17 / G18 / G19
 
     def __init__(self, machine: Machine | None = None):
         self.machine = machine or Machine()
@@ -162,12 +168,33 @@ class Post:
         return Moves(np.array(tip), np.array(angles), np.array(rapid), np.array(f))
 
     # ------------------------------------------------------------------ writing
+    def reduced(self, mv: Moves):
+        """The moves' reduction within the machine's tolerance (``arcs.Reduced``), or None:
+        no tolerance, or a 5-axis program whose rotaries move."""
+        tol = self.machine.tolerance
+        if tol is None or len(mv.tip) < 3:
+            return None
+        if self.five_axis and not np.allclose(mv.angles, mv.angles[0], atol=0.0, rtol=0.0):
+            return None
+        from ..arcs import reduce_moves
+
+        return reduce_moves(mv.tip, mv.rapid, mv.feed, tol, self.arcs)
+
     def program(self, tp: Toolpath, name: str = "EVOPLAN") -> str:
         """The whole NC program of one operation."""
         mv = self.moves(tp)
+        red = self.reduced(mv)
         lines = self.header(tp, name.upper(), mv)
-        last: dict[str, str] = {}
+        last: dict[str, str] = {"plane": "17"}
+        prev = 0
         for n in range(len(mv.tip)):
+            if red is not None and not red.keep[n]:
+                continue
+            if red is not None and red.motion[n] >= 2:
+                lines.append(self._arc_block(mv, red, prev, n, last))
+                prev = n
+                continue
+            prev = n
             words = {"X": fmt(mv.tip[n, 0]), "Y": fmt(mv.tip[n, 1]), "Z": fmt(mv.tip[n, 2])}
             if self.five_axis:
                 words[self.axis_names[0]] = fmt(mv.angles[n, 0])
@@ -183,6 +210,29 @@ class Post:
             last.update(words, G=motion, **({"F": feed} if feed is not None else {}))
         lines += self.footer(tp, name.upper())
         return "\n".join(lines) + "\n"
+
+    def _arc_block(self, mv: Moves, red, start: int, n: int, last: dict) -> str:
+        """A G2 / G3 block from point ``start`` to point ``n`` (both in-plane coordinates and
+        the centre words I J K incremental from the start; the plane word when it changes)."""
+        from ..arcs import PLANES
+
+        plane = red.plane[n]
+        a, b, c = PLANES[plane]
+        motion = f"G{int(red.motion[n])}"
+        p, q, centre = mv.tip[start], mv.tip[n], red.centre[n]
+        words = {"XYZ"[a]: fmt(q[a]), "XYZ"[b]: fmt(q[b])}
+        if last.get("XYZ"[c]) != fmt(q[c]):
+            words["XYZ"[c]] = fmt(q[c])
+        words["IJK"[a]] = fmt(centre[a] - p[a])
+        words["IJK"[b]] = fmt(centre[b] - p[b])
+        feed = fmt(mv.feed[n], 1)
+        if last.get("F") == feed:
+            feed = None
+        head = motion if plane == last["plane"] else f"G{plane} {motion}"
+        line = self.block(head, words, feed, True)
+        last.update({k: v for k, v in words.items() if k in "XYZ"}, G=motion, plane=plane,
+                    **({"F": feed} if feed is not None else {}))
+        return line
 
     def header(self, tp: Toolpath, name: str, mv: Moves) -> list[str]:  # pragma: no cover - abstract
         raise NotImplementedError
@@ -202,11 +252,18 @@ class Post:
     def read(self, text: str) -> Moves:
         """Parse a program this post wrote; ValueError ``line n: ...`` for a line the
         dialect's grammar rejects."""
-        state = {"G": None, "F": np.nan, "X": np.nan, "Y": np.nan, "Z": np.nan, "A0": np.nan, "A1": np.nan}
+        state = {"G": None, "F": np.nan, "X": np.nan, "Y": np.nan, "Z": np.nan, "A0": np.nan, "A1": np.nan,
+                 "plane": "17", "IJK": {}}
         tip, ang, rapid, feed = [], [], [], []
         for n, line in enumerate(text.splitlines(), 1):
             try:
                 move = self.parse_line(line, state)
+                if move and state["G"] in ("G2", "G3"):
+                    inner = self._arc_inner(tip[-1] if tip else None, state)
+                    tip += inner
+                    ang += [[state["A0"], state["A1"]]] * len(inner)
+                    rapid += [False] * len(inner)
+                    feed += [state["F"]] * len(inner)
             except ValueError as exc:
                 raise ValueError(f"line {n}: {exc}: {line[:60]!r}") from None
             if move:
@@ -223,6 +280,27 @@ class Post:
     g_codes = frozenset({"0", "1", "17", "21", "40", "49", "80", "90", "54", "55", "56", "57", "58", "59"})
     m_codes = frozenset({"3", "5", "6", "8", "9", "30"})
 
+    READ_TOL = 1e-3  # mm: chord tolerance of the points an arc is read back as
+
+    def _arc_inner(self, start, state: dict) -> list:
+        """The points strictly inside the arc just read (``arcs.arc_points``)."""
+        from ..arcs import PLANES, arc_points
+
+        if start is None or np.isnan(start).any():
+            raise ValueError("an arc from an unknown position")
+        a, b, _ = PLANES[state["plane"]]
+        ijk = state["IJK"]
+        if set(ijk) - {"IJK"[a], "IJK"[b]}:
+            raise ValueError(f"centre words {''.join(sorted(ijk))} outside plane G{state['plane']}")
+        centre = np.array(start, float)
+        for k, v in ijk.items():
+            centre["IJK".index(k)] += v
+        end = np.array([state["X"], state["Y"], state["Z"]])
+        r0, r1 = (float(np.hypot(p[a] - centre[a], p[b] - centre[b])) for p in (start, end))
+        if r0 == 0 or abs(r1 - r0) > max(1e-3, 1e-4 * r0):
+            raise ValueError(f"the arc's end is {r1:.4f} from its centre, not the radius {r0:.4f}")
+        return arc_points(start, end, centre, state["plane"], state["G"] == "G2", self.READ_TOL).tolist()
+
     def strip_comment(self, line: str) -> str:
         """The line without its comment: ``( ... )`` in ISO/Fanuc."""
         if line.count("(") != line.count(")"):
@@ -235,6 +313,7 @@ class Post:
         if not code or code == "%":
             return False
         moved = False
+        state["IJK"] = {}
         axes = {"X": "X", "Y": "Y", "Z": "Z"}
         if self.five_axis:
             axes.update({self.axis_names[0]: "A0", self.axis_names[1]: "A1"})
@@ -242,16 +321,21 @@ class Post:
             if token in self.keywords:
                 continue
             m = _WORD.fullmatch(token)
-            if not m or (m.group(1) not in self.letters and m.group(1) not in axes):
+            if not m or (m.group(1) not in self.letters and m.group(1) not in axes
+                         and not (self.arcs and m.group(1) in "IJK")):
                 raise ValueError(f"unknown word {token!r}")
             letter, value = m.group(1), m.group(2)
-            if letter in axes:
+            if self.arcs and letter in "IJK":
+                state["IJK"][letter] = float(value)
+            elif letter in axes:
                 state[axes[letter]] = float(value)
                 moved = True
             elif letter == "G":
                 g = value.lstrip("0") or "0"
-                if g in ("0", "1"):
+                if g in ("0", "1") or (self.arcs and g in ("2", "3")):
                     state["G"] = "G" + g
+                elif self.arcs and g in ("17", "18", "19"):
+                    state["plane"] = g
                 elif g not in self.g_codes:
                     raise ValueError(f"unsupported G{value}")
             elif letter == "M" and (value.lstrip("0") or "0") not in self.m_codes:
@@ -260,6 +344,8 @@ class Post:
                 state["F"] = float(value)
         if moved and state["G"] is None:
             raise ValueError("a move before any G0/G1")
+        if state["IJK"] and not (moved and state["G"] in ("G2", "G3")):
+            raise ValueError("centre words I/J/K without an arc move")
         return moved
 
 

@@ -17,6 +17,7 @@ from .iso import IsoPost
 class FanucPost(IsoPost):
     name = "fanuc"
     five_axis = True
+    arcs = False  # the 5-axis programs are written as linear blocks under G43.4 (rotaries interpolated)
     g_codes = Post.g_codes | {"43.4"}
 
     def header(self, tp: Toolpath, name: str, mv: Moves) -> list[str]:

@@ -29,6 +29,7 @@ def _comment(text: str) -> list[str]:
 class IsoPost(Post):
     name = "iso"
     five_axis = False
+    arcs = True  # G2 / G3 in G17 / G18 / G19, centre I J K incremental (with a machine tolerance)
     g_codes = Post.g_codes | {"43"}
 
     def start_lines(self, tp: Toolpath, name: str) -> list[str]:
