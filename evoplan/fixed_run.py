@@ -45,7 +45,7 @@ def execute_fixed(prepared, out: Path) -> RunState:
     The evaluation happens before the folder is claimed, so a plan that cannot be evaluated
     leaves no folder; its files are then written each completely or not at all.
     """
-    from .runner import write_results
+    from .runner import recorded_config, write_results
 
     X = np.zeros((1, 0))
     clock = time.perf_counter()
@@ -68,7 +68,7 @@ def execute_fixed(prepared, out: Path) -> RunState:
     extra = _plan_report(prepared, X, result)
     folder = claim(out, new=True)
     try:
-        write_atomic(out / "config.yaml", yaml.safe_dump(prepared.config.resolved(), sort_keys=False).encode())
+        write_atomic(out / "config.yaml", yaml.safe_dump(recorded_config(prepared), sort_keys=False).encode())
         write_results(prepared, state, out, extra=extra)
     except OSError as e:
         folder.abandon()  # one evaluation, nothing worth keeping: no partial folder

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import importlib
 import inspect
+from pathlib import Path
 from typing import Any, Callable
 
 import numpy as np
@@ -103,6 +104,20 @@ def make_problem(name: str, params: dict[str, Any] | None = None, base_dir: str 
     if not isinstance(problem, Problem):
         raise ValueError(f"{name!r} did not build a pymoo Problem (got {type(problem).__name__})")
     return problem
+
+
+def names_files(params, base_dir: Path) -> bool:
+    """Does a string among ``params`` (nested) name an existing file relative to ``base_dir``?"""
+    if isinstance(params, dict):
+        return any(names_files(v, base_dir) for v in params.values())
+    if isinstance(params, list):
+        return any(names_files(v, base_dir) for v in params)
+    if isinstance(params, str) and params and len(params) < 4096 and not Path(params).is_absolute():
+        try:
+            return (Path(base_dir) / params).is_file()
+        except (OSError, ValueError):
+            return False
+    return False
 
 
 def surface_facts(problem) -> dict[str, Any]:

@@ -106,6 +106,22 @@ def default_out(config: RunConfig) -> Path:
     return Path("results") / f"{config.name}-seed{config.seed}-{stamp}"
 
 
+def recorded_config(prepared: Prepared) -> dict:
+    """What ``config.yaml`` records: every setting, and, when the problem's params name files
+    relative to the run file (a mesh, a control net), that folder as ``params.base_dir``, so
+    that ``simulate --run`` and ``machine --from-run`` find them from the results folder."""
+    from .problem_factory import names_files
+
+    data = prepared.config.resolved()
+    source = Path(prepared.source)
+    params = (data.get("problem") or {}).get("params")
+    if isinstance(params, dict) and "base_dir" not in params and source.is_file():
+        base = source.resolve().parent
+        if names_files(params, base):
+            params["base_dir"] = str(base)
+    return data
+
+
 def start_folder(prepared: Prepared, out: Path, state: RunState, checkpointer: Checkpointer) -> FolderClaim:
     """Create and lock ``out`` for a new run: its first checkpoint, then ``config.yaml``.
 
@@ -115,7 +131,7 @@ def start_folder(prepared: Prepared, out: Path, state: RunState, checkpointer: C
     folder = claim(out, new=True)
     try:
         checkpointer.save(state)  # generation 0: resumable before the first evaluation
-        write_atomic(out / "config.yaml", yaml.safe_dump(prepared.config.resolved(), sort_keys=False).encode())
+        write_atomic(out / "config.yaml", yaml.safe_dump(recorded_config(prepared), sort_keys=False).encode())
     except OSError as e:
         folder.abandon()
         raise ConfigError(f"{out}: cannot write the results folder ({e.strerror or e})") from None

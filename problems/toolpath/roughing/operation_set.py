@@ -70,7 +70,8 @@ def _finish_plan(surface, cfg: dict, plan):
     fin = cfg["finish"]
     if plan is not None:
         variables, run_params = plan
-        run_surface = parse_surface(run_params.get("surface", "fountas"), "surface")
+        run_surface = parse_surface(run_params.get("surface", "fountas"), "surface",
+                                    run_params.get("base_dir"))  # a run's files: its run file's folder
         uv = np.linspace(0, 1, 7)
         if not np.allclose(run_surface.points(uv, uv[::-1]), surface.points(uv, uv[::-1]), atol=1e-6):
             raise ValueError("surface: the --from-run run optimized another surface")

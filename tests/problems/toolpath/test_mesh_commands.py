@@ -8,6 +8,7 @@ import runpy
 from pathlib import Path
 
 import pytest
+import yaml
 
 from evoplan.cli import main
 
@@ -45,10 +46,15 @@ def test_examples_copy_the_part_with_the_run_file(tmp_path, capsys):
     assert main(["run", str(tmp_path / "mesh_wavy_zoned_vega.yaml"), "--out", str(out), "--quiet",
                  "--set", "algorithm.population=4", "--set", "algorithm.virus.count=1",
                  "--set", "termination.generations=1", "--set", "problem.params.zoning.mesh=[8, 6]",
-                 "--set", "problem.params.ranges.zones=[1, 2]"]) == 0
+                 "--set", "problem.params.fixed={zones: 1}",
+                 "--set", "problem.params.ranges={stepover: [10, 40], step: [0.5, 4]}"]) == 0
     best = json.loads((out / "best.json").read_text())
     _fit(best)
     assert best["variables"]["tool"] in (1, 2)
+    # the results folder records the run file's folder, so its part is found from there
+    assert yaml.safe_load((out / "config.yaml").read_text())["problem"]["params"]["base_dir"] == str(tmp_path)
+    assert main(["simulate", "--run", str(out), "--grid", "1", "--out", str(tmp_path / "s"), "--quiet"]) == 0
+    _fit(json.loads((tmp_path / "s" / "simulation.json").read_text()))
 
 
 def test_evaluate_and_simulate(tmp_path, capsys):
