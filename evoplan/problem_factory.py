@@ -100,7 +100,11 @@ def make_problem(name: str, params: dict[str, Any] | None = None, base_dir: str 
     except TypeError as e:
         raise ValueError(f"bad parameters for problem {short(name)}: {_first_line(e)}") from None
     except (Exception, SystemExit) as e:  # noqa: BLE001 - a problem's own validation error, in one line
-        raise ValueError(f"cannot build problem {short(name)}: {_first_line(e)}") from None
+        # evoplan's own problems raise one-line messages that name a file, a key and where:
+        # kept whole (the length cap is for user code's messages)
+        own = isinstance(e, ValueError) and name.lower() in PROBLEMS
+        line = (str(e).strip().splitlines() or ["(no message)"])[0] if own else _first_line(e)
+        raise ValueError(f"cannot build problem {short(name)}: {line}") from None
     if not isinstance(problem, Problem):
         raise ValueError(f"{name!r} did not build a pymoo Problem (got {type(problem).__name__})")
     return problem

@@ -104,6 +104,15 @@ def test_cli_one_line_exit_2_no_folder(tmp_path, capsys, monkeypatch):
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "surface.file: parts/empty.stl: the file is empty" in err and str(run) in err
     assert not out.exists()
+    # a long message is kept whole (where the wall is, and its slope)
+    lo, hi = grid(lambda x, y: 0 * x, lx=5.0), grid(lambda x, y: 0 * x + 2, lx=5.0) + [5.0, 0, 0]
+    wall = [[[5, 0, 0], [5, 8, 0], [5, 8, 2]], [[5, 0, 0], [5, 8, 2], [5, 0, 2]]]
+    stl(tmp_path / "parts" / "empty.stl", np.concatenate([lo, hi, wall]))
+    assert main(["run", str(run), "--out", str(out), "--quiet"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.rstrip().endswith("vertical wall at (x, y, z) = (5.00, 5.33, 0.67) "
+                                                          "(triangle 160, 90.0 deg)")
+    assert not out.exists()
     # the mesh extra missing: one line naming it
     stl(tmp_path / "parts" / "empty.stl", grid(lambda x, y: 0.1 * x))
     monkeypatch.setitem(sys.modules, "trimesh", None)
