@@ -14,6 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from .evaluation import Evaluation
+from .multiobjective import Ledger
 
 
 class FeasibleBest:
@@ -29,12 +30,16 @@ class FeasibleBest:
         self.X: np.ndarray | None = None
         self.F: float | None = None
         self.CV: float | None = None
+        self.feasible_rows: set[bytes] = set()  # several objectives: the feasible rows, by their bytes
 
     def __getattr__(self, name):
         return getattr(self.__dict__["evaluator"], name)
 
     def __call__(self, X: np.ndarray) -> Evaluation:
         result = self.evaluator(X)
+        if result.cv is not None and result.F is not None:
+            ok = (result.cv <= 0) & ~result.failed
+            self.feasible_rows.update(Ledger.keys(X[ok]))
         if result.cv is not None and result.raw is not None:
             ok = (result.cv <= 0) & ~result.failed & np.isfinite(result.raw)
             if ok.any():
@@ -50,16 +55,19 @@ def pymoo_arrays(problem, tracker: FeasibleBest | None, best_X: np.ndarray | Non
 
     One objective: ``X (n_var,)``, ``F (1,)``, ``CV (1,)`` of the best feasible point (an
     unconstrained problem's every point is feasible, ``CV = 0``); several objectives: the
-    non-dominated set, ``X (k, n_var)``, ``F (k, n_obj)``, ``CV (k, 1)``. Nothing feasible
+    non-dominated set, ``X (k, n_var)``, ``F (k, n_obj)``, ``CV (k, 1)`` (constrained: its
+    feasible points; the archive is kept on penalized vectors, so a feasible point dominated
+    only by an infeasible one is missing, where pymoo would list it). Nothing feasible
     (or nothing evaluated without failing): ``X = F = CV = None`` and ``feasible`` False.
     """
     constrained = bool(problem.n_ieq_constr or problem.n_eq_constr)
     if front is not None:
-        X, F = front
+        X, F = np.asarray(front[0], dtype=float), np.asarray(front[1], dtype=float)
+        if constrained:  # the front's feasible points (the penalty ranks infeasible ones behind)
+            rows = tracker.feasible_rows if tracker is not None else set()
+            keep = np.array([k in rows for k in Ledger.keys(X)], dtype=bool) if len(X) else np.zeros(0, dtype=bool)
+            X, F = X[keep], F[keep]
         if not len(F):
-            return {"X": None, "F": None, "CV": None, "feasible": False}
-        feasible = not constrained or (tracker is not None and tracker.X is not None)
-        if not feasible:
             return {"X": None, "F": None, "CV": None, "feasible": False}
         return {"X": np.array(X, dtype=float), "F": np.array(F, dtype=float), "CV": np.zeros((len(F), 1)),
                 "feasible": True}

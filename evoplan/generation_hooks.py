@@ -5,7 +5,8 @@
 - ``verbose``: one line per generation on stdout, in pymoo's columns and number format
   (:class:`pymoo.util.display.column.Column`): ``n_gen`` counted as pymoo counts (the initial
   population is generation 1), ``n_eval``, the population's mean ``f_avg`` and the best value
-  so far ``f_min``.
+  so far ``f_min``, both as the engine ranks them (penalized on a constrained problem, where
+  pymoo shows ``cv_min``/``cv_avg`` and the feasible points' values instead).
 - ``save_history``: a :class:`Population` per generation: the decoded population and its
   values (a copy of two arrays, where pymoo deep-copies the whole algorithm).
 - ``callback``: called with the run's :class:`~evoplan.engine.RunState` (``state.algorithm``

@@ -237,3 +237,30 @@ def test_ask_tell_counts_and_finds_what_minimize_does():
     assert opt.history["evaluations"].tolist() == r.history["evaluations"].tolist()
     uncached = evoplan.AskTell("kubota", "vega", seed=1, pop_size=20, cache={"size": 0})
     assert own_loop(uncached, kubota, 30) == uncached.evaluations > r.evaluations
+
+
+def test_ask_tell_takes_a_pymoo_object_and_pop_size():
+    opt = evoplan.AskTell(RASTRIGIN, DE(pop_size=12, CR=0.5, variant="DE/rand/1/bin"), seed=4)
+    assert opt.algorithm.config.name == "pymoo_de" and opt.algorithm.config.pop_size == 12
+    own_loop(opt, RASTRIGIN, 3)
+    r = evoplan.minimize(RASTRIGIN, DE(pop_size=12, CR=0.5, variant="DE/rand/1/bin"), 3, seed=4)
+    assert opt.evaluations == r.evaluations and opt.best_f == r.f
+
+
+def test_hooks_run_with_a_results_folder_too(tmp_path, capsys):
+    count = Count()  # a pymoo Callback: notify() gets the state, read by evoplan's names
+    count.notify = lambda state: count.calls.append(state.algorithm.generation + 1)
+    r = evoplan.minimize("kubota", "ga", ("n_gen", 4), seed=1, pop_size=10, out=tmp_path / "run",
+                         callback=count, verbose=True, save_history=True)
+    assert count.calls == [1, 2, 3, 4] == [p.n_gen for p in r.populations]
+    assert len(capsys.readouterr().out.splitlines()) == 3 + 4
+    assert (tmp_path / "run" / "best.json").is_file() and r.feasible and r.X.shape == (2,)
+
+
+def test_constrained_multi_objective_front_keeps_its_feasible_points_only():
+    problem = get_problem("bnh")  # two objectives, two inequality constraints
+    ours = evoplan.minimize(problem, NSGA2(pop_size=20), ("n_gen", 8), seed=1)
+    theirs = pymoo_run(problem, NSGA2(pop_size=20), ("n_gen", 8))
+    assert ours.feasible and theirs.X.shape[1] == ours.X.shape[1] == 2
+    out = problem.evaluate(ours.X, return_as_dictionary=True)
+    assert (out["G"] <= 0).all() and np.allclose(out["F"], ours.F) and ours.CV.shape == (len(ours.F), 1)
