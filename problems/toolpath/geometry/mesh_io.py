@@ -13,6 +13,10 @@ file cannot be used:
   overhang (in a consistently wound mesh, a triangle facing down among ones facing up), or
   two sheets over the same (x, y) (found by :mod:`.mesh_raster` when the mesh is sampled).
 
+A closed solid (a block with a sculptured top, as most CAD systems export a part) is read
+with ``facing="up"``: its upward-facing triangles are the surface, its walls and bottom are
+left out; an undercut then shows as two sheets over one (x, y).
+
 trimesh is the ``mesh`` extra: without it the error names the extra (``evoplan/extras.py``).
 """
 
@@ -105,7 +109,7 @@ def _load(path: Path, key: str, label: str):
 
 
 def read_mesh(source, key: str = "surface.file", base_dir=None, units: str = "mm",
-              label: str | None = None) -> TriangleMesh:
+              label: str | None = None, facing: str = "all") -> TriangleMesh:
     """The checked mesh of file ``source`` (relative to ``base_dir``), in mm (module doc);
     messages name it ``label`` (default: ``source`` as given)."""
     from .nets import resolve
@@ -116,13 +120,18 @@ def read_mesh(source, key: str = "surface.file", base_dir=None, units: str = "mm
         raise ValueError(f"{key}: {label}: unsupported mesh file type {path.suffix!r} "
                          f"(use {', '.join(SUFFIXES)})")
     vertices, faces = _load(path, key, label)
-    return check_mesh(vertices * UNITS[units], faces, key, label)
+    return check_mesh(vertices * UNITS[units], faces, key, label, facing)
 
 
-def check_mesh(vertices, faces, key: str, label: str) -> TriangleMesh:
-    """The :class:`TriangleMesh` of raw arrays, or one line saying why they cannot be used."""
+def check_mesh(vertices, faces, key: str, label: str, facing: str = "all") -> TriangleMesh:
+    """The :class:`TriangleMesh` of raw arrays, or one line saying why they cannot be used.
+
+    ``facing="up"``: the mesh is a closed solid (every edge shared by two triangles, wound
+    alike); its triangles facing up (outward normal above 1 degree from horizontal) are the
+    surface: the part as the tool sees it from above. Its walls and bottom are left out."""
     vertices = np.asarray(vertices, float)
     faces = np.asarray(faces, np.int64)
+    given = faces
 
     def fail(msg):
         raise ValueError(f"{key}: {label}: {msg}")
@@ -148,6 +157,13 @@ def check_mesh(vertices, faces, key: str, label: str) -> TriangleMesh:
     if steep.all():
         fail("degenerate: every triangle stands vertical (no area seen from above)")
     _check_manifold(faces, vertices, fail)
+    if facing == "up":
+        cross, nz = _outward(given, faces, vertices, cross, nz, fail)
+        up = nz > MIN_NZ
+        if not up.any():
+            fail("facing: up: no triangle of the solid faces up")
+        faces, cross, twice_area, centroid, nz = faces[up], cross[up], twice_area[up], centroid[up], nz[up]
+        steep = np.zeros(len(faces), bool)
     if steep.any():
         i = int(np.flatnonzero(steep)[0])
         fail(f"not a height field over XY: vertical wall {_where(centroid[i])} (triangle {i}, "
@@ -159,7 +175,24 @@ def check_mesh(vertices, faces, key: str, label: str) -> TriangleMesh:
         fail(f"not a height field over XY: overhang {_where(centroid[i])} (triangle {i} faces down)")
     faces = np.where(down[:, None], faces[:, ::-1], faces)  # every triangle faces up
     normals = cross * np.where(down, -1.0, 1.0)[:, None] / twice_area[:, None]
-    return TriangleMesh(vertices, np.ascontiguousarray(faces), normals, label, dropped)
+    used, faces = np.unique(faces, return_inverse=True)  # only the vertices of the triangles kept
+    return TriangleMesh(vertices[used], np.ascontiguousarray(faces.reshape(-1, 3)), normals, label, dropped)
+
+
+def _outward(given, faces, vertices, cross, nz, fail):
+    """(cross, nz) of ``faces`` turned outward when the ``given`` triangles (zero-area ones
+    included) close a consistently wound solid (its signed volume sum a . (b x c) / 6 is then
+    positive), or one line saying why the mesh is no such solid."""
+    edges = np.stack([given, np.roll(given, -1, axis=1)], axis=2).reshape(-1, 2)
+    _, counts = np.unique(_edge_keys(edges, len(vertices)), return_counts=True)
+    if (counts != 2).any():
+        fail(f"facing: up takes a closed solid: {int((counts == 1).sum())} edges belong to one "
+             "triangle only")
+    if not _consistently_wound(given):
+        fail("facing: up takes a closed solid wound consistently (its triangles' windings disagree)")
+    a = vertices[faces[:, 0]]
+    volume = float(np.einsum("ij,ij->i", a, cross).sum()) / 6.0
+    return (cross, nz) if volume > 0 else (-cross, -nz)
 
 
 def _edge_keys(edges: np.ndarray, n_vertices: int) -> np.ndarray:

@@ -147,3 +147,47 @@ def test_a_mesh_with_a_hole_is_fitted_exactly_and_its_footprint_has_the_hole(tmp
     X, Y = np.meshgrid(g.xs, g.ys)
     assert not (g.inside & (np.abs(X - 20) < 5) & (np.abs(Y - 15) < 4)).any()  # no cell in the hole
     assert g.cell_area().sum() == pytest.approx(1120 * np.sqrt(1 + 0.01 ** 2 + 0.02 ** 2), rel=1e-9)
+
+
+def test_obj_and_ply_give_the_stl_surface(mesh_file, tmp_path):
+    import trimesh
+
+    stl = parse_surface({"type": "mesh", "file": str(mesh_file)})
+    m = trimesh.Trimesh(stl.mesh.vertices, stl.mesh.faces, process=False)
+    u, v = np.random.default_rng(2).random((2, 200))
+    for suffix in (".obj", ".ply"):
+        path = tmp_path / f"paraboloid{suffix}"
+        m.export(path)
+        other = parse_surface({"type": "mesh", "file": str(path)})
+        assert other.facts()["triangles"] == stl.facts()["triangles"]
+        assert np.abs(other.points(u, v) - stl.points(u, v)).max() < 1e-5  # OBJ writes 8 digits
+
+
+def test_a_closed_solid_is_machined_on_its_top_skin(tmp_path):
+    """A block 40 x 30 mm from z = 0 up to the paraboloid (a closed solid, as CAD exports a
+    part): facing: up keeps the top, which is the open paraboloid mesh exactly."""
+    import trimesh
+
+    top = parse_surface({"type": "mesh", "file": str(write_grid_stl(tmp_path / "top.stl"))})
+    v, f = top.mesh.vertices, top.mesh.faces
+    m = trimesh.Trimesh(v, f, process=False)
+    edges = m.edges[trimesh.grouping.group_rows(m.edges_sorted, require_count=1)]  # boundary, wound
+    n = len(v)
+    floor = v.copy()
+    floor[:, 2] = 0.0
+    walls = np.concatenate([np.column_stack([edges[:, 1], edges[:, 0], edges[:, 0] + n]),
+                            np.column_stack([edges[:, 1], edges[:, 0] + n, edges[:, 1] + n])])
+    solid = trimesh.Trimesh(np.concatenate([v, floor]), np.concatenate([f, f[:, ::-1] + n, walls]),
+                            process=False)
+    assert solid.is_watertight and solid.is_winding_consistent and solid.volume > 0
+    for flip in (False, True):  # wound inward: turned outward by its signed volume
+        faces = solid.faces[:, ::-1] if flip else solid.faces
+        trimesh.Trimesh(solid.vertices, faces, process=False).export(tmp_path / "solid.stl")
+        with pytest.raises(ValueError, match=r"solid.stl: not a height field over XY: vertical wall at"):
+            parse_surface({"type": "mesh", "file": str(tmp_path / "solid.stl")})
+        s = parse_surface({"type": "mesh", "file": str(tmp_path / "solid.stl"), "facing": "up"})
+        assert s.facts()["triangles"] == len(f) and s.bounds == pytest.approx(top.bounds)
+        u, w = np.random.default_rng(3).random((2, 100))
+        assert np.abs(s.points(u, w) - top.points(u, w)).max() < 1e-9
+    with pytest.raises(ValueError, match=r"top.stl: facing: up takes a closed solid: \d+ edges belong to one"):
+        parse_surface({"type": "mesh", "file": str(tmp_path / "top.stl"), "facing": "up"})
