@@ -45,7 +45,7 @@ class AllowanceCfg(_Strict):
 
 
 class RoughCfg(_Strict):
-    method: Literal["morphing", "zlevel", "contour"] = "morphing"
+    method: Literal["morphing", "morphing_full", "zlevel", "contour"] = "morphing"
     tool: ToolCfg = Field(default_factory=lambda: ToolCfg(number=1, diameter=12.0, spindle=6000.0))
     max_depth: float = 2.0             # D_cut, mm
     stepover: float = Field(0.6, gt=0, le=1)   # fraction of the diameter
@@ -100,6 +100,7 @@ class PostCfg(_Strict):
     work_offset: str = Field("G54", pattern=r"^G5[4-9]$")
     program_number: int = Field(1000, ge=1, le=9999)
     rapid_rate: float = Field(10000.0, gt=0)
+    tolerance: float | None = Field(None, gt=0)  # mm: merge near-collinear points, fit G2/G3 (iso); None: every point
     kinematics: KinematicsCfg = Field(default_factory=KinematicsCfg)
 
 

@@ -44,7 +44,7 @@ def check_sizes(cfg: dict, surface, max_bytes: float | None) -> None:
         if layers > MAX_LAYERS:
             raise ValueError(f"roughing.max_depth: {depth:g} mm cuts the {z_top - z0:.1f} mm of stock into "
                              f"{layers:.3g} layers (at most {MAX_LAYERS:,})")
-        per_layer = 8 if ro["method"] == "morphing" else 1
+        per_layer = 8 if ro["method"].startswith("morphing") else 1
         _fits(layers * cells * per_layer, max_bytes, f"roughing.max_depth: {layers:.3g} layers of {cells:.3g} cells")
     reach = 0.5 * float(ro["tool"]["diameter"]) + float(al["semifinish"]) + float(al["finish"]) + cell
     disk = (2 * math.floor(reach / cell) + 1) ** 2

@@ -123,14 +123,15 @@ def build_operations(cfg: dict, base_dir=None, plan=None, max_bytes: float | Non
     st, al, ro = cfg["stock"], cfg["allowances"], cfg["roughing"]
     stock = block_stock(surface, st["cell"], st["top"], st["top_offset"])
     safe_z = _clearance_plane(post_cfg["kinematics"], stock.z_top)
-    post = post_cls(Machine(kin, post_cfg["work_offset"], post_cfg["program_number"], safe_z=safe_z))
+    post = post_cls(Machine(kin, post_cfg["work_offset"], post_cfg["program_number"], safe_z=safe_z,
+                            tolerance=post_cfg.get("tolerance")))
     rough_tool = _tool(ro["tool"])
     step = progress or (lambda name: None)  # called as each stage starts (a progress bar)
     step("roughing")
     rough, stats, (floor, layers) = roughing(
         stock, ro["method"], rough_tool, d_cut=ro["max_depth"], stepover=ro["stepover"] * rough_tool.diameter,
         allowance_semi=al["semifinish"], allowance_finish=al["finish"], feed=ro["feed"],
-        plunge_feed=ro["plunge_feed"], tolerance=ro["tolerance"])
+        plunge_feed=ro["plunge_feed"], tolerance=ro["tolerance"], rapid=post_cfg["rapid_rate"])
     se = cfg["semifinish"]
     semi_tool = _tool(se["tool"])
     semi_tool.corner_radius = 0.5 * semi_tool.diameter

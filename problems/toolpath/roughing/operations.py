@@ -1,7 +1,8 @@
 """The operation set for one surface: roughing from a block, semi-finish, finish (Abbas' stages).
 
-- ``roughing``: Abbas' morphing layers or the z-level baseline (``layers.py``), cut by
-  zig-zag with a flat end mill (``zigzag.py``) and checked on a stock Z-map (``zmap.py``).
+- ``roughing``: Abbas' morphing layers (cut where material remains, ``remaining.py``, or over
+  the whole block) or the z-level baselines (``layers.py``; zig-zag ``zigzag.py``, contour-
+  parallel ``contour.py``) with a flat end mill, checked on a stock Z-map (``zmap.py``).
 - ``ball_on_offset``: 3-axis ball-end zig-zag along iso-parametric curves (passes at constant
   v, points along u), the ball centre on the exact normal offset at R + allowance
   (``offset.py``): semi-finish with allowance D_off2, finish with 0.
@@ -78,8 +79,10 @@ def block_stock(surface, cell: float, top: float | None = None, top_offset: floa
 
 def roughing(stock: Stock, method: str, tool: Tool, *, d_cut: float, stepover: float, allowance_semi: float,
              allowance_finish: float, feed: float, plunge_feed: float, tolerance: float = 0.01,
-             clearance: float = 10.0):
-    """(toolpath, stats, layers): ``method`` 'morphing' or 'zlevel'; stats from the Z-map.
+             clearance: float = 10.0, rapid: float = 10000.0):
+    """(toolpath, stats, layers): ``method`` 'morphing' (where material remains above each
+    layer, ``remaining.py``), 'morphing_full' (every layer over the block), 'zlevel' or
+    'contour'; stats from the Z-map. ``rapid`` (mm/min) weighs a retract against staying down.
     ``layers`` (N, ny, nx) morphing layers or (N,) z levels, for the figure."""
     d_z = stock.z_top - stock.z_min
     if not 0 < d_cut <= d_z:
@@ -89,7 +92,12 @@ def roughing(stock: Stock, method: str, tool: Tool, *, d_cut: float, stepover: f
     floor = floor_field(stock.z_surface, stock.grid, 0.5 * tool.diameter, a)
     kw = dict(z_top=stock.z_top, safe_z=stock.z_top + clearance, feed=feed, plunge_feed=plunge_feed,
               tolerance=tolerance, comments=[f"{method} roughing, {n} layers, max depth {d_cut:g} mm"])
-    if method == "morphing":
+    if method == "morphing":  # cut only where the stock Z-map has material above the layer
+        from .remaining import morph_remaining_path
+
+        layers = morph_layers(floor, stock.z_top, n)
+        tp = morph_remaining_path(stock.grid, layers, tool, stepover, rapid=rapid, **kw)
+    elif method == "morphing_full":  # every layer over the whole block, as Abbas draws them
         layers = morph_layers(floor, stock.z_top, n)
         tp = morph_path(stock.grid, layers, tool, stepover, **kw)
     elif method == "zlevel":
@@ -101,7 +109,7 @@ def roughing(stock: Stock, method: str, tool: Tool, *, d_cut: float, stepover: f
         layers = z_levels(floor, stock.z_top, n)
         tp = contour_path(stock.grid, floor, layers, tool, stepover, **kw)
     else:
-        raise ValueError(f"roughing.method: unknown method {method!r} (known: morphing, zlevel, contour)")
+        raise ValueError(f"roughing.method: unknown method {method!r} (known: morphing, morphing_full, zlevel, contour)")
     zmap = StockZMap(stock.grid, stock.z_top)
     stats = zmap.cut(tp)
     left_min, left_max = zmap.clearance_over(stock.z_surface)

@@ -182,3 +182,25 @@ def test_progress_names_every_stage_and_quiet_silences_it(tmp_path):
     assert seen == ["roughing", "semi-finish", "finish", "post roughing", "post semifinish", "post finish", "files"]
     proc = machine(tmp_path, config(tmp_path), "--out", tmp_path / "q", "--quiet")
     assert proc.returncode == 0 and proc.stderr == ""
+
+
+def test_post_tolerance_reduces_the_three_axis_programs_only(tmp_path):
+    from evoplan.commands.machine import load
+    from evoplan.problems.toolpath.roughing.operation_set import build_operations
+
+    cfg = load(str(config(tmp_path, method="morphing", dialect="fanuc"))).model_dump()
+    plain, s0 = build_operations(cfg, tmp_path)
+    cfg["post"]["tolerance"] = 0.01
+    reduced, s1 = build_operations(cfg, tmp_path)
+    assert len(reduced["roughing.nc"]) < len(plain["roughing.nc"])
+    assert reduced["finish.nc"] == plain["finish.nc"]  # 5-axis: the rotaries move, every point is kept
+    assert s1["finish"]["safety"]["violations"] == [] and s1["roughing"]["safety"]["violations"] == []
+    # every point of the roughing program read back lies on the unreduced one within the tolerance
+    kin = Kinematics("head_table", Rotary("B", "y", (-90, 90)), Rotary("C", "z", (-360, 360)))
+    post = POSTS["fanuc"](Machine(kin))
+    a, b = (post.read(p["roughing.nc"].decode()).tip for p in (plain, reduced))
+    from evoplan.problems.toolpath.export.arcs import segment_distance
+
+    a, b = a[np.isfinite(a).all(axis=1)], b[np.isfinite(b).all(axis=1)]
+    d = np.min([segment_distance(a, b[k], b[k + 1]) for k in range(len(b) - 1)], axis=0)
+    assert d.max() <= 0.01 + 1e-4

@@ -117,3 +117,25 @@ def test_the_surface_z_range_is_the_surfaces_not_a_zmaps():
     assert z.min() - 1e-4 <= z_min <= z.min() + 1e-9
     assert z.max() - 1e-9 <= z_max <= z.max() + 1e-4
     assert block_stock(surface, 1.0).z_min > z_min + 1e-3  # what the summary used to report
+
+
+def test_morphing_cuts_only_where_material_remains(case):
+    from evoplan.problems.toolpath.roughing.remaining import morph_remaining_path
+
+    grid, zs, floor, z_top, n = case
+    tool = Tool(1, 2 * R, 0.0, 6000)
+    layers = morph_layers(floor, z_top, n)
+    kw = dict(z_top=z_top, safe_z=z_top + 10, feed=800, plunge_feed=300, tolerance=0.01)
+    full = StockZMap(grid, z_top).cut(morph_path(grid, layers, tool, 6.0, **kw))
+    tp = morph_remaining_path(grid, np.concatenate([layers, layers]), tool, 6.0, **kw)
+    zmap = StockZMap(grid, z_top)
+    aware = zmap.cut(tp)
+    # the repeated layers find no material: nothing of them is cut, not even in air
+    assert [s["section"] for s in aware["layers"]] == list(range(n))
+    assert aware["removed_mm3"] == pytest.approx(full["removed_mm3"], rel=1e-3)
+    assert aware["max_depth"] <= D_CUT and aware["rapid_volume"] == 0.0
+    assert zmap.clearance_over(zs)[0] >= A_SEMI + A_FIN - 0.01
+    # no slower than the whole-block zig-zag of the layers once (air is crossed only where
+    # staying down is quicker than a retract, a rapid and a plunge)
+    once = morph_path(grid, layers, tool, 6.0, **kw)
+    assert tp.time_minutes(10000.0) <= once.time_minutes(10000.0)
