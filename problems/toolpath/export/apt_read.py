@@ -112,11 +112,14 @@ def _statements(text: str):
 def _numbers(args: list[str], line: int, scale: float = 1.0) -> list[float]:
     out = []
     for a in args:
-        a = FORTRAN.sub(r"\1e\2", a.strip())
         try:
-            v = float(a)
+            v = float(a)  # the common case; FORTRAN's D exponents are never floats, so the same values
         except ValueError:
-            raise AptError(line, f"not a number: {a!r}") from None
+            a = FORTRAN.sub(r"\1e\2", a.strip())
+            try:
+                v = float(a)
+            except ValueError:
+                raise AptError(line, f"not a number: {a!r}") from None
         if not math.isfinite(v):
             raise AptError(line, f"non-finite value {a!r}")
         out.append(v * scale)
