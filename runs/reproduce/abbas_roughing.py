@@ -42,7 +42,9 @@ def compare(name: str) -> dict:
     out = {"z_range": stock.z_max - stock.z_min}
     for method in ("morphing", "zlevel"):
         t0 = time.perf_counter()
-        tp, stats, _ = roughing(stock, method, tool, d_cut=ro["max_depth"], stepover=ro["stepover"] * tool.diameter,
+        # Abbas' layers as he draws them, each over the whole block (abbas_fair_baseline.py
+        # also measures them cut only where material remains)
+        tp, stats, _ = roughing(stock, "morphing_full" if method == "morphing" else method, tool, d_cut=ro["max_depth"], stepover=ro["stepover"] * tool.diameter,
                                 allowance_semi=al["semifinish"], allowance_finish=al["finish"], feed=ro["feed"],
                                 plunge_feed=ro["plunge_feed"], tolerance=ro["tolerance"])
         nc = post.program(tp, "roughing").encode()
