@@ -113,9 +113,9 @@ def _least_squares(xs, ys, z, off, tx, ty):
     equations of the samples on the mesh alone, A^T A c = A^T z with A = B_y (x) B_x
     restricted to them, plus a small penalty ``SMOOTHING`` x mean(diag A^T A) on the
     coefficients' second differences, which decides the coefficients no sample reaches
-    (they extend the fit linearly) and leaves a plane exact."""
+    (they extend the fit linearly) and leaves a plane exact; solved banded
+    (:func:`_solve_banded`)."""
     from scipy import sparse
-    from scipy.sparse.linalg import spsolve
 
     bx = BSpline.design_matrix(xs, tx, 3)
     by = BSpline.design_matrix(ys, ty, 3)
@@ -125,8 +125,17 @@ def _least_squares(xs, ys, z, off, tx, ty):
         py = np.linalg.solve(by.T @ by, by.T)
         return px @ z.T @ py.T
     nbx, nby = bx.shape[1], by.shape[1]
-    a = sparse.kron(by, bx, format="csr")[np.flatnonzero(~off.ravel())]  # rows (iy, ix), cols (j, i)
-    normal = (a.T @ a).tocsc()
+    on = ~off
+    normal = sparse.csr_matrix((nbx * nby, nbx * nby))
+    rhs = np.zeros(nbx * nby)
+    rows = max(1, (1 << 18) // len(xs))  # sample rows per block: A stays a few MB
+    by = by.tocsr()
+    for r0 in range(0, len(ys), rows):  # A^T A and A^T z accumulated over blocks of sample rows
+        keep = on[r0:r0 + rows].ravel()
+        a = sparse.kron(by[r0:r0 + rows], bx, format="csr")[np.flatnonzero(keep)]  # cols (j, i)
+        normal = normal + a.T @ a
+        rhs += a.T @ z[r0:r0 + rows].ravel()[keep]
+    normal = normal.tocsc()
 
     def second_differences(n):
         return sparse.diags([1.0, -2.0, 1.0], [0, 1, 2], shape=(max(n - 2, 1), n))
@@ -134,8 +143,28 @@ def _least_squares(xs, ys, z, off, tx, ty):
     dx, dy = second_differences(nbx), second_differences(nby)
     penalty = sparse.kron(sparse.eye(nby), dx.T @ dx) + sparse.kron(dy.T @ dy, sparse.eye(nbx))
     lam = SMOOTHING * float(normal.diagonal().mean())
-    c = spsolve((normal + lam * penalty).tocsc(), a.T @ z.ravel()[~off.ravel()])
-    return c.reshape(nby, nbx).T
+    return _solve_banded(normal + lam * penalty, rhs, nbx, nby)
+
+
+def _solve_banded(matrix, rhs, nbx: int, nby: int) -> np.ndarray:
+    """Coefficients (nbx, nby) of the symmetric positive definite system ``matrix`` c = rhs
+    (unknowns ordered (j, i): j over y outer, i over x inner), by a banded Cholesky
+    (LAPACK pbsv through ``scipy.linalg.solveh_banded``) with the shorter axis inner: cubic
+    B-splines couple unknowns at most 3 apart on each axis, so the band is 3 (inner + 1)."""
+    from scipy import sparse
+    from scipy.linalg import solveh_banded
+
+    if nbx > nby:  # reorder to (i, j): y inner
+        perm = np.arange(nbx * nby).reshape(nby, nbx).T.ravel()
+        matrix, rhs, inner = matrix.tocsr()[perm][:, perm], rhs[perm], nby
+    else:
+        inner = nbx
+    band = 3 * (inner + 1)
+    upper = sparse.triu(matrix, format="coo")
+    ab = np.zeros((band + 1, matrix.shape[0]))
+    ab[band + upper.row - upper.col, upper.col] = upper.data
+    c = solveh_banded(ab, rhs, check_finite=False)
+    return c.reshape(nbx, nby) if nbx > nby else c.reshape(nby, nbx).T
 
 
 def deviation(fit: Fit, mesh: TriangleMesh) -> Deviation:
