@@ -182,14 +182,32 @@ class DaskPool:
 
     def _scatter(self, obj: Callable):
         """``obj`` sent to the workers. Broadcasting races with a worker that is dying or being
-        replaced (distributed then raises "Can not use replicate to delete data" or a closed
-        comm); it is tried again, and last sent to one worker, from which the others fetch it."""
-        for attempt in range(SCATTER_TRIES):
+        replaced (distributed then raises "Can not use replicate to delete data", "No valid
+        workers found" or a closed comm); it waits for a worker, is tried again, and last sent to
+        one worker, from which the others fetch it."""
+        for attempt in range(SCATTER_TRIES + 1):
+            self._await_a_worker()
             try:
-                return self.client.scatter(obj, broadcast=True, hash=False)
+                return self.client.scatter(obj, broadcast=attempt < SCATTER_TRIES, hash=False)
             except (ValueError, OSError, RuntimeError):  # CommClosedError is an OSError
                 time.sleep(POLL * (attempt + 1))
-        return self.client.scatter(obj, broadcast=False, hash=False)
+        raise EvoplanError("dask: the problem could not be sent to the workers (they kept leaving); "
+                           "finished work is kept (run the same command again to resume)")
+
+    def _await_a_worker(self) -> None:
+        """Return once the cluster has a worker; a one-line error after ``NO_WORKERS_TIMEOUT``."""
+        if self.client.nthreads():
+            return
+        if self.cluster is not None:
+            try:
+                self.cluster.scale(self.size)
+            except Exception:  # noqa: BLE001 - the error below says what matters
+                pass
+        try:
+            self.client.wait_for_workers(1, timeout=NO_WORKERS_TIMEOUT)
+        except (TimeoutError, OSError) as e:
+            raise EvoplanError(f"dask: the cluster has had no workers for {NO_WORKERS_TIMEOUT:g} s; "
+                               "finished work is kept (run the same command again to resume)") from e
 
     def call(self, handle: list, chunks: list) -> list:
         """One outcome per chunk (its result, or the exception it ended with), in waves of at

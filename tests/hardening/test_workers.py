@@ -17,6 +17,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
+from evoplan.cli import main
 from evoplan.evaluation import Evaluator
 from evoplan.parallel import ParallelEvaluator, open_pool
 
@@ -90,17 +91,32 @@ def _results(out: Path):
 
 @pytest.mark.parametrize("backend,problem,timeout", [("processes", "Dies", None), ("processes", "Hangs", 0.5),
                                                      ("dask", "Dies", None)])
-def test_a_run_goes_on_with_the_numbers_of_clean_failures(tmp_path, backend, problem, timeout):
-    ref = _run_file(tmp_path, "Fails", "ref")
-    assert evoplan("run", ref, "--out", tmp_path / "ref", "--quiet").returncode == 0
+def test_a_run_goes_on_with_the_numbers_of_clean_failures(tmp_path, clean_run, backend, problem, timeout):
     extra = f"evaluation: {{backend: {backend}, workers: 2" + (f", timeout_s: {timeout}" if timeout else "") + "}\n"
     cfg = _run_file(tmp_path, problem, "bad", extra)
     proc = evoplan("run", cfg, "--out", tmp_path / "bad", "--quiet")
     assert proc.returncode == 0 and "Traceback" not in proc.stderr, proc.stderr
     h1, b1 = _results(tmp_path / "bad")
-    h2, b2 = _results(tmp_path / "ref")
+    h2, b2 = _results(clean_run)
     pd.testing.assert_frame_equal(h1, h2)
     assert b1 == b2 and b1["failures"] > 0
+
+
+@pytest.fixture(scope="module")
+def clean_run(tmp_path_factory):
+    """The reference run whose bad rows fail cleanly (NaN), shared by the run tests (in-process:
+    nothing misbehaves in it)."""
+    root = tmp_path_factory.mktemp("clean_run")
+    assert main(["run", str(_run_file(root, "Fails", "ref")), "--out", str(root / "ref"), "--quiet"]) == 0
+    return root / "ref"
+
+
+@pytest.fixture(scope="module")
+def clean_study(tmp_path_factory):
+    """The reference study whose bad rows fail cleanly, shared by the study tests."""
+    root = tmp_path_factory.mktemp("clean_study")
+    assert main(["study", str(_study(root, "Fails", "ref")), "--out", str(root / "ref"), "--quiet"]) == 0
+    return _runs(root / "ref")
 
 
 def _study(tmp_path, problem, name, extra=""):
@@ -116,9 +132,7 @@ def _runs(out: Path) -> pd.DataFrame:
     return runs.drop(columns=["wall_seconds", "failure_messages"])
 
 
-def test_a_study_cell_whose_worker_dies_fails_alone_and_reproducibly(tmp_path):
-    ref = _study(tmp_path, "Fails", "ref")
-    assert evoplan("study", ref, "--out", tmp_path / "ref").returncode == 0
+def test_a_study_cell_whose_worker_dies_fails_alone_and_reproducibly(tmp_path, clean_study):
     cfg = _study(tmp_path, "Dies", "dies")
     runs = []
     for backend in ("processes", "processes", "dask"):
@@ -126,7 +140,7 @@ def test_a_study_cell_whose_worker_dies_fails_alone_and_reproducibly(tmp_path):
         proc = evoplan("study", cfg, "--out", out, "--backend", backend, "--workers", 2)
         assert "Traceback" not in proc.stderr, proc.stderr
         runs.append(_runs(out))
-    expected = _runs(tmp_path / "ref")
+    expected = clean_study
     for r in runs:
         pd.testing.assert_frame_equal(r, runs[0])
     died = runs[0].status != "ok"
@@ -139,13 +153,11 @@ def test_a_study_cell_whose_worker_dies_fails_alone_and_reproducibly(tmp_path):
 
 
 @pytest.mark.parametrize("backend", ["processes", "dask"])
-def test_a_study_bounds_a_hanging_evaluation_with_timeout_s(tmp_path, backend):
-    ref = _study(tmp_path, "Fails", "ref")
-    assert evoplan("study", ref, "--out", tmp_path / "ref").returncode == 0
+def test_a_study_bounds_a_hanging_evaluation_with_timeout_s(tmp_path, clean_study, backend):
     cfg = _study(tmp_path, "Hangs", "hangs", "evaluation: {timeout_s: 0.3}\n")
     proc = evoplan("study", cfg, "--out", tmp_path / "hangs", "--backend", backend, "--workers", 2)
     assert proc.returncode == 0 and "Traceback" not in proc.stderr, proc.stderr
-    got, expected = _runs(tmp_path / "hangs"), _runs(tmp_path / "ref")
+    got, expected = _runs(tmp_path / "hangs"), clean_study
     assert (got.status == "ok").all() and got.failures.sum() > 0
     pd.testing.assert_frame_equal(got, expected)
 
@@ -173,7 +185,7 @@ def test_a_real_dask_cluster_loses_a_worker_mid_study(tmp_path):
         cfg.write_text("seed: 3\nseeds: 6\nbudget: {evaluations: 40}\n"
                        f"problems:\n  - {{name: '{OBJ}:Slow', label: p, params: {{delay: 0.05}}}}\n"
                        "algorithms:\n  - {name: ga, population: 6}\noutput: {plots: false, ioh: false}\n")
-        assert evoplan("study", cfg, "--out", tmp_path / "ref").returncode == 0
+        assert main(["study", str(cfg), "--out", str(tmp_path / "ref"), "--quiet"]) == 0
         study = subprocess.Popen([sys.executable, "-m", "evoplan", "study", cfg, "--out", tmp_path / "dask",
                                   "--backend", "dask", "--scheduler", address], env=ENV,
                                  stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
