@@ -151,7 +151,7 @@ def _nc_program(problem, X, post_name: str) -> bytes:
     genes = problem.genes.decode(problem.check(X))
     path = problem.planner.cl_path(genes, problem.feed_rate)
     t = problem.tool_db.tools[int(genes["tool"][0])]
-    tool = Tool(t.id, t.diameter, t.corner_radius, getattr(t, "spindle", None) or 6000.0)
+    tool = Tool(t.id, t.cutter, getattr(t, "spindle", None) or 6000.0)
     tp = Toolpath.from_sections("finish", tool, path.tip, path.axis, path.section,
                                 feed=getattr(t, "feed", None) or problem.feed_rate,
                                 plunge_feed=getattr(t, "plunge_feed", None))

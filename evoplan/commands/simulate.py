@@ -115,6 +115,7 @@ def _problem_and_plan(args):
 def _nc_path(args):
     """(CLPath, None, label) of ``--nc FILE --tool D[,r]``."""
     from ..problems.toolpath.clpath import CLPath
+    from ..problems.toolpath.cutters import make_cutter
     from ..problems.toolpath.export.gcode_read import GcodeError, read_gcode
     from ..problems.toolpath.export.kinematics import Kinematics, Rotary
 
@@ -126,7 +127,7 @@ def _nc_path(args):
         raise ConfigError(f"--tool {args.tool!r}: give the cutter as D[,r] in mm (d > 0, 0 <= r <= D/2)") from None
     kin = Kinematics("table_table", Rotary("A", "x", (-120, 120)), Rotary("C", "z", (-1e6, 1e6)))
     try:
-        return CLPath.from_apt(read_gcode(args.nc, d, r, kin)), None, f"NC file {Path(args.nc).name}"
+        return CLPath.from_apt(read_gcode(args.nc, make_cutter(d, r, key="--tool"), kin)), None, f"NC file {Path(args.nc).name}"
     except (GcodeError, OSError, ValueError) as e:
         raise ConfigError(f"{args.nc}: {e}") from None
 

@@ -193,7 +193,7 @@ def toolpath_apt(planner, genes, facts) -> bytes:
              for i in starts}
     title = (f"{facts['name']}: {facts['method']} {facts['n_zones']} zones, "
              f"{facts['strategy']}, h_c {facts['h_c']} mm")
-    tp = Toolpath.from_sections("finish", Tool(1, tool.diameter, tool.corner_radius),
+    tp = Toolpath.from_sections("finish", Tool(1, tool.cutter),
                                 path.tip, path.axis, path.section, feed=path.feed_rate,
                                 comments=[title[:66]], section_names=names)
     return apt_toolpath(tp, part="EVOPLAN ZONE").encode()

@@ -83,7 +83,7 @@ def read_moves(path: Path, name: str | None = None) -> Moves:
         main_feed = float(values[counts.argmax()])
     kind = np.where(rapid, 2, np.where(feed < main_feed - 1e-9, 1, 0))
     return Moves(name or Path(path).stem, apt.tip, apt.axis, kind, zone_of, pass_of, word,
-                 float(apt.diameter), main_feed)
+                 float(apt.cutter.diameter) if apt.cutter is not None else float("nan"), main_feed)
 
 
 def _cut_runs(mv: Moves) -> tuple[np.ndarray, np.ndarray]:

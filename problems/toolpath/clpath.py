@@ -11,7 +11,7 @@ post-processors, the cut simulation): the machine's view, with no model behind i
   section changes, the tool retracts and re-enters (a rapid move, which does not cut).
 - ``pass_index`` (m,): the pass each point belongs to (for comments and figures).
 - ``zone`` (m,): the zone of a zoned plan (0 when the plan has one zone).
-- ``diameter``, ``corner_radius`` (mm): the cutter (r = 0 flat-end, r = D/2 ball-end).
+- ``cutter``: the :class:`~.cutters.Cutter` (its shape and dimensions).
 """
 
 from __future__ import annotations
@@ -20,7 +20,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .cutters import Cutter, make_cutter
+from .cutters import Cutter
 
 __all__ = ["CLPath"]
 
@@ -31,8 +31,7 @@ class CLPath:
 
     tip: np.ndarray
     axis: np.ndarray
-    diameter: float
-    corner_radius: float
+    cutter: Cutter
     section: np.ndarray | None = None
     pass_index: np.ndarray | None = None
     zone: np.ndarray | None = None
@@ -58,21 +57,16 @@ class CLPath:
             if len(val) != m:
                 raise ValueError(f"toolpath: {name} has {len(val)} entries for {m} CL points")
             object.__setattr__(self, name, val)
-        if not (self.diameter > 0 and 0 <= self.corner_radius <= self.diameter / 2):
-            raise ValueError(f"toolpath: cutter D {self.diameter} r {self.corner_radius} is not "
-                             "a flat, toroidal or ball-end cutter (0 <= r <= D/2, D > 0)")
+        if not isinstance(self.cutter, Cutter):
+            raise ValueError(f"toolpath: the cutter must be a Cutter, got {self.cutter!r}")
 
     def __len__(self) -> int:
         return len(self.tip)
 
     @property
     def radius(self) -> float:
-        return self.diameter / 2.0
-
-    @property
-    def cutter(self) -> Cutter:
-        """The path's cutter (shape inferred from D and r by ``cutters.make_cutter``)."""
-        return make_cutter(self.diameter, self.corner_radius, key="toolpath.cutter")
+        """The cutter's radius R (mm): its reach from the axis."""
+        return self.cutter.radius
 
     @property
     def feed_moves(self) -> np.ndarray:
@@ -83,15 +77,17 @@ class CLPath:
     def from_apt(cls, apt) -> "CLPath":
         """The path of an APT CL file read by ``export.apt_read.read_apt``: a RAPID move
         starts a new section (it does not cut); a file whose points are the tool centre
-        (``$$ TOOLPOINT CENTRE``) is moved down the axis by the corner radius to the tip."""
+        (``$$ TOOLPOINT CENTRE``) is moved down the axis to the tip (``Cutter.centre_to_tip``)."""
         tip = np.asarray(apt.tip, float)
         axis = np.asarray(apt.axis, float)
+        if apt.cutter is None:
+            raise ValueError("toolpath: the CL file has no CUTTER/ statement")
         if apt.tip_is_centre:
-            tip = make_cutter(apt.diameter, apt.corner_radius, key="apt.cutter").centre_to_tip(tip, axis)
+            tip = apt.cutter.centre_to_tip(tip, axis)
         section = np.cumsum(np.asarray(apt.rapid, bool))
         feed = np.asarray(apt.feed, float)
         rate = float(np.nanmax(feed)) if np.isfinite(feed).any() else 1000.0
-        return cls(tip, axis, float(apt.diameter), float(apt.corner_radius), section=section,
+        return cls(tip, axis, apt.cutter, section=section,
                    pass_index=np.asarray(apt.section), feed_rate=rate)
 
     def feed_length(self) -> float:

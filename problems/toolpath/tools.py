@@ -103,7 +103,8 @@ def parse_tools(spec=None, key: str = "tools") -> ToolDatabase:
     """Build a database from plain data (a list of mappings); None gives the default nine.
 
     Each entry: ``diameter`` (> 0), ``corner_radius`` (0 <= r <= D/2), optional ``id``
-    (default: position + 1), ``type`` (flat/ball/toroidal; checked against r when given),
+    (default: position + 1), ``type`` (flat/ball/toroidal/tapered_ball; checked against r
+    when given), ``taper_angle`` (degrees: the half-angle of a tapered ball's cone),
     ``name``, and the cutting data ``feed`` (mm/min), ``plunge_feed`` (mm/min), ``spindle``
 (rpm): an entry with any of them needs its ``feed``. The shape comes from :func:`~.cutters.make_cutter` (a registered name or
     alias is accepted as ``type``). Errors are one-line ValueErrors starting with the key
@@ -119,8 +120,8 @@ def parse_tools(spec=None, key: str = "tools") -> ToolDatabase:
         k = f"{key}[{i}]"
         if not isinstance(item, dict):
             raise ValueError(f"{k}: expected a mapping, got {item!r}")
-        unknown = set(item) - {"id", "type", "diameter", "corner_radius", "name", "feed", "plunge_feed",
-                               "spindle"}
+        unknown = set(item) - {"id", "type", "diameter", "corner_radius", "taper_angle", "name",
+                               "feed", "plunge_feed", "spindle"}
         if unknown:
             raise ValueError(f"{k}: unknown key(s) {', '.join(sorted(unknown))}")
         if "diameter" not in item:
@@ -135,7 +136,8 @@ def parse_tools(spec=None, key: str = "tools") -> ToolDatabase:
                 raise ValueError(f"{k}.corner_radius: must be >= 0, got {r:g}")
             if r > d / 2 + 1e-12:
                 raise ValueError(f"{k}.corner_radius: {r:g} exceeds the tool radius {d / 2:g}")
-        cutter = make_cutter(d, r, item.get("type"), key=k)  # shape inferred, a given type checked
+        # the shape inferred, a given type checked (a tapered ball: its taper_angle, degrees)
+        cutter = make_cutter(d, r, item.get("type"), key=k, taper_angle=item.get("taper_angle"))
         tid = item.get("id", i + 1)
         if isinstance(tid, bool) or not isinstance(tid, (int, np.integer)):
             raise ValueError(f"{k}.id: expected an integer, got {tid!r}")

@@ -33,7 +33,7 @@ def main() -> None:
                 t0 = time.perf_counter()
                 if tolerance is None:
                     batch, _ = problem.plan(problem.row(params))
-                    path = batch.cl_path(0, t.diameter, t.corner_radius)
+                    path = batch.cl_path(0, t.cutter)
                 else:
                     path = problem.planner.cl_path(genes)
                 seconds = time.perf_counter() - t0

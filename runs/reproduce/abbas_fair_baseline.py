@@ -24,6 +24,7 @@ from pathlib import Path
 from evoplan.commands.machine import load
 from evoplan.problems.toolpath.criteria.kinematic_time import Dynamics, toolpath_time
 from evoplan.problems.toolpath.export.posts import POSTS, Machine
+from evoplan.problems.toolpath.cutters import make_cutter
 from evoplan.problems.toolpath.export.toolpath import Tool
 from evoplan.problems.toolpath.geometry.spec import parse_surface
 from evoplan.problems.toolpath.roughing.operations import block_stock, roughing
@@ -41,7 +42,7 @@ def measure(case: str) -> list[dict]:
     surface = parse_surface(cfg["surface"], "surface", RUNS)
     st, al, ro = cfg["stock"], cfg["allowances"], cfg["roughing"]
     stock = block_stock(surface, st["cell"], st["top"], st["top_offset"])
-    tool = Tool(ro["tool"]["number"], ro["tool"]["diameter"], 0.0, ro["tool"]["spindle"])
+    tool = Tool(ro["tool"]["number"], make_cutter(ro["tool"]["diameter"], 0.0), ro["tool"]["spindle"])
     rows = []
     for method in METHODS:
         tp, stats, _ = roughing(stock, method, tool, d_cut=ro["max_depth"], stepover=ro["stepover"] * tool.diameter,

@@ -11,6 +11,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from evoplan.problems.toolpath.cutters import make_cutter
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -34,7 +35,7 @@ def write_apt(path: Path, passes: int = 8, per_pass: int = 200, zones: int = 2, 
         axes.append(a / np.linalg.norm(a, axis=1, keepdims=True))
         section.append(np.full(per_pass, k))
         names[k] = f"ZONE {k * zones // passes} PASS {k}"
-    tp = Toolpath.from_sections(name, Tool(6, 16.0, 3.0), np.concatenate(tips), np.concatenate(axes),
+    tp = Toolpath.from_sections(name, Tool(6, make_cutter(16.0, 3.0)), np.concatenate(tips), np.concatenate(axes),
                                 np.concatenate(section), feed=1000.0, section_names=names)
     path.write_bytes(apt_toolpath(tp, part="EVOPLAN TEST").encode())
 

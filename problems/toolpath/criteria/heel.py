@@ -44,8 +44,6 @@ __all__ = ["N_ANGLES", "footprint_rings", "pose_gouge"]
 
 #: angles around the axis per ring
 N_ANGLES = 16
-#: corner angles (degrees from the bottom) of the rings sampled up the corner radius
-_CORNER_DEG = (0.0, 20.0, 45.0, 90.0)
 #: a depth below this (mm) is the round-off of the contact itself (the cutter touches the
 #: quadric there), not a gouge
 _ROUND_OFF = 1e-9
@@ -53,10 +51,10 @@ _ROUND_OFF = 1e-9
 
 def footprint_rings(cutter):
     """(rho, h): the rings of the cutter's lower surface sampled by :func:`pose_gouge`, at the
-    heights h = r (1 - cos theta) of the corner angles theta in 0, 20, 45 and 90 deg
-    (r the corner radius), rho = ``cutter.width(h)``; duplicate radii (a flat end's single
-    rim) and the ball's tip (rho = 0) dropped."""
-    h = cutter.corner_radius * (1.0 - np.cos(np.radians(_CORNER_DEG)))
+    heights ``cutter.ring_heights()`` (the torus family: h = r (1 - cos theta) of the corner
+    angles theta in 0, 20, 45 and 90 deg), rho = ``cutter.width(h)``; duplicate radii (a
+    flat end's single rim) and the ball's tip (rho = 0) dropped."""
+    h = np.asarray(cutter.ring_heights(), float)
     rho = np.asarray(cutter.width(h), float)
     _, first = np.unique(np.round(rho, 12), return_index=True)
     keep = np.sort(first)
@@ -106,13 +104,11 @@ def _second_form(i, su, sv, suu, suv, svv, n, t, b):
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
-def _pose_depths(p, nrm, tangent, axis, tips, su, sv, suu, suv, svv, tool, big, small, rho,
-                 hgt, n_rings, n_angles):
+def _pose_depths(p, nrm, tangent, axis, tips, su, sv, suu, suv, svv, tool, rho, hgt, n_rings,
+                 n_angles):
     """Per point: the largest d = z(x, y) - X.n over the rings and angles (module docstring);
-    -inf for no ring. Point i has cutter tool[i]: radii big, small (R, r) and rings rho, hgt
-    (rows, the first n_rings). tips (k, 3), or (0, 3) for the tangent placement
-    tip = p - S(-n), S(d) = r a + (R - r) e + r d the support point of the torus family
-    (``cutters/shapes.py``, e the unit projection of d normal to a)."""
+    -inf for no ring. Point i has cutter tool[i]: rings rho, hgt (rows, the first n_rings)
+    and its tip tips[i] (k, 3)."""
     k = p.shape[0]
     out = np.full(k, -np.inf)
     d = np.empty(n_angles)
@@ -126,14 +122,7 @@ def _pose_depths(p, nrm, tangent, axis, tips, su, sv, suu, suv, svv, tool, big, 
         ktt, ktb, kbb = _second_form(i, su, sv, suu, suv, svv, n, t, b)
         an = _dot(a, n)
         c = tool[i]
-        if tips.shape[0] == 0:  # rel = tip - p = -S(-n) = -(r a + (R - r) e - r n)
-            e = _along(_scale(a, an), n, -1.0)
-            en = math.sqrt(_dot(e, e))
-            sc = (big[c] - small[c]) / en if en > 1e-12 else 0.0
-            rel = _along(_scale(a, -small[c]), e, -sc)
-            rel = _along(rel, n, small[c])
-        else:
-            rel = (tips[i, 0] - p[i, 0], tips[i, 1] - p[i, 1], tips[i, 2] - p[i, 2])
+        rel = (tips[i, 0] - p[i, 0], tips[i, 1] - p[i, 1], tips[i, 2] - p[i, 2])
         # e1: the travel tangent normal to the axis, e2 = a x e1
         e1 = _unit(_along(t, a, -_dot(t, a)))
         e2 = _cross(a, e1)
@@ -168,10 +157,17 @@ def pose_gouge(cutters, tool, p, normal, tangent, axis, jet, tip=None,
     of each point's cutter; p, normal (unit, on the tool side), tangent (the travel
     direction), axis (unit): (k, 3); jet: the surface's order-2 ``Jet`` at the points (its
     second form is taken on n); tip: (k, 3), or None for the tangent placement of
-    ``Cutter.cc_to_tip`` (computed in the loop: see :func:`_pose_depths`)."""
+    ``Cutter.cc_to_tip``."""
     p = np.ascontiguousarray(p, float)
     if len(p) == 0:
         return np.zeros(0)
+    tool = np.broadcast_to(tool, len(p))
+    if tip is None:
+        ax = np.broadcast_to(axis, p.shape)
+        tip = np.empty_like(p)
+        for j in np.unique(tool):
+            rows = np.flatnonzero(tool == j)
+            tip[rows] = cutters[int(j)].cc_to_tip(p[rows], np.asarray(normal)[rows], ax[rows])
     c = np.ascontiguousarray
     rings = [footprint_rings(cu) for cu in cutters]
     m = max(len(r[0]) for r in rings)
@@ -180,8 +176,6 @@ def pose_gouge(cutters, tool, p, normal, tangent, axis, jet, tip=None,
         rho[j, :len(r)], hgt[j, :len(h)] = r, h
     depth = _pose_depths(
         p, c(normal, float), c(tangent, float), c(np.broadcast_to(axis, p.shape), float),
-        np.zeros((0, 3)) if tip is None else c(tip, float), c(jet.su), c(jet.sv), c(jet.suu),
-        c(jet.suv), c(jet.svv), c(np.broadcast_to(tool, len(p)), np.int64),
-        np.array([cu.radius for cu in cutters]), np.array([cu.corner_radius for cu in cutters]),
-        rho, hgt, np.array([len(r[0]) for r in rings], np.int64), n_angles)
+        c(tip, float), c(jet.su), c(jet.sv), c(jet.suu),
+        c(jet.suv), c(jet.svv), c(tool, np.int64), rho, hgt, np.array([len(r[0]) for r in rings], np.int64), n_angles)
     return np.where(depth > _ROUND_OFF, depth, 0.0)

@@ -109,7 +109,7 @@ def gap_heights_3axis(cutter, w, tangent, normal, kappa, allowance) -> np.ndarra
     r_eff = cutter.effective_radius(t_z, normal[:, 2])
     with np.errstate(invalid="ignore", divide="ignore"):
         circle = scallop_height(r_eff, w, kappa)
-    if cutter.corner_radius == cutter.radius:  # a ball's profile IS the circle: exact
+    if cutter.spherical:  # a ball's profile IS the circle: exact
         h = np.where(np.isnan(circle), np.inf, circle)
     else:
         h = np.where(circle < 0, circle, cusp_heights(cutter, w, t_z, b_z, kappa))

@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .base import Cutter, register
+from .base import CYLINDER, ROUND, Cutter, register
 from .silhouette import profile_tables, side_width_exact
 
 __all__ = ["ToroidalCutter", "FlatEndCutter", "BallEndCutter"]
@@ -53,6 +53,18 @@ class _Revolved(Cutter):
     def swept_side_width(self, h, t_z, beta):
         """The 3-axis side width (``silhouette.side_width_exact``)."""
         return side_width_exact(self.radius, self.corner_radius, h, t_z, beta)
+
+    @property
+    def cutting_height(self) -> float:
+        """r: the corner arc ends there (the shank above)."""
+        return self.corner_radius
+
+    def pieces(self):
+        """The shank {rho <= R, w >= r} (for r = 0 the whole flat end) and, for r > 0, the
+        points within r of the rim disc (radius R - r, height r): the flat bottom and the
+        corner torus, a sphere for the ball."""
+        r = self.corner_radius
+        return [(CYLINDER, r)] + ([(ROUND, self.rim_radius, r, r)] if r > 0 else [])
 
     @property
     def centre_height(self) -> float:
@@ -108,8 +120,8 @@ class FlatEndCutter(_Revolved):
     sharp_rim = True
 
     @classmethod
-    def accepts(cls, diameter, corner_radius):
-        return diameter > 0 and corner_radius == 0
+    def accepts(cls, diameter, corner_radius, **extra):
+        return not extra and diameter > 0 and corner_radius == 0
 
     @classmethod
     def default_corner_radius(cls, diameter):
@@ -120,9 +132,11 @@ class FlatEndCutter(_Revolved):
 class BallEndCutter(_Revolved):
     """Ball-end mill: r = R (a sphere centred R above the tip)."""
 
+    spherical = True
+
     @classmethod
-    def accepts(cls, diameter, corner_radius):
-        return diameter > 0 and _is_ball(diameter, corner_radius)
+    def accepts(cls, diameter, corner_radius, **extra):
+        return not extra and diameter > 0 and _is_ball(diameter, corner_radius)
 
     @classmethod
     def default_corner_radius(cls, diameter):
@@ -150,5 +164,6 @@ class ToroidalCutter(_Revolved):
     """Toroidal (bull-nose) mill: 0 < r < R."""
 
     @classmethod
-    def accepts(cls, diameter, corner_radius):
-        return diameter > 0 and 0 < corner_radius < diameter / 2 and not _is_ball(diameter, corner_radius)
+    def accepts(cls, diameter, corner_radius, **extra):
+        return (not extra and diameter > 0 and 0 < corner_radius < diameter / 2
+                and not _is_ball(diameter, corner_radius))

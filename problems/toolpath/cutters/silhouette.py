@@ -1,4 +1,5 @@
-"""The silhouette (swept cross-section) of the torus-family cutters, written once.
+"""The silhouette (swept cross-section) of a cutter: exact for the torus family, and from the
+support points for any other shape.
 
 A straight move of a cutter sweeps a cylinder whose cross-section, in the plane normal to the
 feed t, is the cutter projected along t: its silhouette. The flat-end, toroidal and ball-end
@@ -19,6 +20,10 @@ circle of radius R_eff does not: a flat bottom, a rim that cuts, a cusp past the
   tables (the analytic criteria's 5-axis scallops, ``criteria/scallop.py``).
 - :func:`side_width_exact`: 3-axis, vertical axis, the lateral offset where the profile rises
   to a height (the zoning's step-over, ``zoning/profile.py``).
+- :func:`support_profile_tables`, :func:`support_side_width`: the same two for any cutter,
+  the silhouette point of outward normal nu being its support point along nu
+  (``Cutter.support_point``; the defaults of ``Cutter.swept_profile`` and
+  ``Cutter.swept_side_width``).
 """
 
 from __future__ import annotations
@@ -27,7 +32,8 @@ import numpy as np
 
 from .effective_radius import effective_radius_lead_tilt
 
-__all__ = ["silhouette_point", "profile_tables", "side_width_exact"]
+__all__ = ["silhouette_point", "profile_tables", "side_width_exact", "support_profile_tables",
+           "support_side_width"]
 
 
 def silhouette_point(g_xx, g_xy, g_yy, r, nx, ny, tiny=0.0):
@@ -147,17 +153,23 @@ def side_width_exact(R, r, h, t_z, beta, iterations: int = 40):
     b = a * np.abs(t_z)
     g_xx, g_yy = a * a, b * b  # the Gram matrix of the projected rim: diag(a^2, b^2)
 
-    def _point(psi):
+    def point(psi):
         c, s = np.cos(psi), np.sin(psi)
         c = np.where(np.abs(c) < 1e-12, 0.0, c)  # a segment facing nu: its centre, not an end
         return silhouette_point(g_xx, 0.0, g_yy, r, c, s)
+    return _side_width(point, h, beta, iterations)
+
+
+def _side_width(point, h, beta, iterations):
+    """The bisection of :func:`side_width_exact` for a silhouette given by its support
+    point ``point(psi)`` (outward normal (cos psi, sin psi)); arrays broadcast with beta."""
     nx, ny = -np.sin(beta), np.cos(beta)
     tx, ty = np.cos(beta), np.sin(beta)
     psi_c = beta - 0.5 * np.pi
-    qcx, qcy = _point(psi_c)
+    qcx, qcy = point(psi_c)
 
     def height(psi):
-        qx, qy = _point(psi)
+        qx, qy = point(psi)
         dx, dy = qx - qcx, qy - qcy
         return nx * dx + ny * dy, dx * tx + dy * ty
 
@@ -170,3 +182,55 @@ def side_width_exact(R, r, h, t_z, beta, iterations: int = 40):
     (g_lo, x_lo), (g_hi, x_hi) = height(lo), height(hi)
     frac = np.clip((h - g_lo) / np.where(g_hi > g_lo, g_hi - g_lo, 1.0), 0.0, 1.0)
     return np.where(g_end <= h, x_end, x_lo + frac * (x_hi - x_lo))
+
+
+def support_side_width(cutter, h, t_z, beta, iterations: int = 40):
+    """3-axis side width of any cutter from its support points (``Cutter.support_point``):
+    :func:`side_width_exact`'s bisection in psi, the silhouette point of outward normal
+    nu = (cos psi, sin psi) being the support point of the vertical cutter along
+    d = cos psi X + sin psi Y, projected on the plane normal to the feed t = (c, 0, t_z)
+    (X = (0, 1, 0) across the feed, Y = (-t_z, 0, c) upwards, c = sqrt(1 - t_z^2)). Where
+    the support jumps across a straight stretch of the silhouette (a cone's generator), the
+    final linear interpolation is exact."""
+    h, t_z, beta = np.broadcast_arrays(*(np.asarray(x, float) for x in (h, t_z, beta)))
+    tz = np.abs(t_z)
+    c = np.sqrt(np.maximum(1.0 - tz * tz, 0.0))
+    zero = np.zeros_like(tz)
+    X = np.stack([zero, zero + 1.0, zero], -1)
+    Y = np.stack([-tz, zero, c], -1)
+    up = np.broadcast_to(np.array([0.0, 0.0, 1.0]), X.shape)
+
+    def point(psi):
+        d = np.cos(psi)[..., None] * X + np.sin(psi)[..., None] * Y
+        q = cutter.support_point(up.reshape(-1, 3), d.reshape(-1, 3)).reshape(d.shape)
+        return np.sum(q * X, -1), np.sum(q * Y, -1)
+    return _side_width(point, h, beta, iterations)
+
+
+def support_profile_tables(cutter, lead, tilt, m: int = 384):
+    """5-axis profile tables (as :func:`profile_tables` returns them) of any cutter from its
+    support points: in the travel frame (t, b, n) the axis is a = (sin aL, cos aL sin aT,
+    cos aL cos aT); the silhouette point of outward normal nu = sin p b - cos p n is the
+    support point along nu projected on (b, n), p = 0 the contact; m values of p from 0 to
+    +-pi/2 on each side, three times denser at the contact than at the end. Consecutive samples are joined by
+    straight lines, exact along a straight stretch (a cone's generator, across which the
+    support point jumps) and within r (dp)^2 / 8 of a round one."""
+    lead = np.atleast_1d(np.asarray(lead, float))
+    tilt = np.broadcast_to(np.asarray(tilt, float), lead.shape)
+    n = len(lead)
+    a = np.stack([np.sin(lead), np.cos(lead) * np.sin(tilt), np.cos(lead) * np.cos(tilt)], -1)
+    u = np.linspace(0.0, 1.0, m)
+    p = 0.5 * np.pi * 0.5 * (u * u + u)  # denser at the contact
+    out = []
+    for side in (1.0, -1.0):
+        ph = side * p
+        d = np.stack([np.zeros_like(ph), np.sin(ph), -np.cos(ph)], -1)  # (m, 3) in (t, b, n)
+        q = cutter.support_point(np.repeat(a, m, axis=0), np.tile(d, (n, 1))).reshape(n, m, 3)
+        x = side * (q[..., 1] - q[:, :1, 1])
+        z = np.maximum(q[..., 2] - q[:, :1, 2], 0.0)
+        order = np.argsort(x, axis=1, kind="stable")
+        x = np.maximum(np.take_along_axis(x, order, 1), 0.0)
+        out.append((x, np.maximum.accumulate(np.take_along_axis(z, order, 1), axis=1)))
+    x = np.stack([out[0][0], out[1][0]], axis=1).reshape(2 * n, -1)
+    z = np.stack([out[0][1], out[1][1]], axis=1).reshape(2 * n, -1)
+    return x, z, x[:, -1].copy()

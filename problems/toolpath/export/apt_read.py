@@ -13,8 +13,10 @@ Statements with meaning here:
 - ``FROM/x,y,z[,i,j,k]``: where the tool starts (``start``; not a point of the path).
 - ``RAPID``: the next motion only is a rapid.
 - ``FEDRAT/v[,MMPM|IPM]`` or ``FEDRAT/MMPM,v``: the feed of the following moves (mm/min).
-- ``CUTTER/d[,r[,...]]``: diameter and corner radius (the 7-parameter ``CUTTER/d,r,e,f,a,b,h``
-  form too). A cutting (non-rapid) ``GOTO`` before any ``CUTTER`` is an error.
+- ``CUTTER/d[,r[,...]]``: the cutter, diameter and corner radius, or the 7-parameter
+  ``CUTTER/d,r,e,f,a,b,h`` form (the registered shape that reads it: ``cutters.cutter_from_apt``;
+  a tapered ball as ``cutters/tapered.py`` writes it). A cutting (non-rapid) ``GOTO`` before
+  any ``CUTTER`` is an error.
 - ``UNITS/MM`` or ``UNITS/INCHES`` (lengths after it are converted to mm); ``MULTAX[/ON|OFF]``.
 - ``PARTNO``, ``LOADTL/n``, ``SPINDL/n[,RPM][,CLW|CCLW]`` or ``SPINDL/OFF``,
   ``COOLNT/ON|FLOOD|MIST|AIR|OFF`` are recorded.
@@ -47,6 +49,8 @@ from pathlib import Path
 
 import numpy as np
 
+from ..cutters import Cutter, cutter_from_apt, make_cutter
+
 INCH = 25.4
 MOTION = frozenset("GOFWD GOLFT GORGT GOBACK GOUP GODOWN GO MOVARC PSIS DNTCUT".split())
 SECTION = re.compile(r"^(?:ZONE\s+\S+\s+)?PASS\s+\S+", re.I)
@@ -73,8 +77,7 @@ class AptToolpath:
     feed: np.ndarray         # (m,) feed in force, mm/min (nan before any FEDRAT)
     section: np.ndarray      # (m,) index into ``sections`` (-1 before the first)
     sections: tuple[str, ...]  # the section comments, e.g. "PASS 3"
-    diameter: float
-    corner_radius: float
+    cutter: Cutter | None    # the CUTTER/ (or TLDATA/) statement's; None without one
     multax: bool
     tip_is_centre: bool
     part: str = ""
@@ -132,7 +135,7 @@ class _Reader:
         self.sections: list[str] = []
         self.scale, self.cur_axis, self.cur_feed = 1.0, (0.0, 0.0, 1.0), math.nan
         self.next_rapid, self.multax, self.centre = False, False, False
-        self.cutter: tuple[float, float] | None = None
+        self.cutter: Cutter | None = None
         self.info: dict = {"part": "", "tool_number": None, "spindle_rpm": None, "coolant": None, "start": None,
                            "ignored": {}}
         self.circle: tuple | None = None
@@ -230,7 +233,7 @@ class _Reader:
             d, r = _numbers(vals[:2], line, self.scale)
             if d <= 0 or not 0 <= r <= d / 2:
                 raise AptError(line, "TLDATA needs d > 0 and 0 <= r <= d/2")
-            self.cutter = (d, r)
+            self.cutter = make_cutter(d, r, key="TLDATA")
         elif word in ("SELECT", "LOAD") and args and args[0].upper() == "TOOL":
             nums = [a for a in args[1:] if not a.strip().isalpha()]
             self.info["tool_number"] = int(_numbers(nums[:1], line)[0]) if nums else None
@@ -260,9 +263,12 @@ class _Reader:
             if not 1 <= n <= 7:
                 raise AptError(line, f"CUTTER needs 1 to 7 values, got {n}")
             v = _numbers(args, line, self.scale)
-            if v[0] <= 0 or (n > 1 and not 0 <= v[1] <= v[0] / 2):
-                raise AptError(line, "CUTTER needs d > 0 and 0 <= r <= d/2")
-            self.cutter = (v[0], v[1] if n > 1 else 0.0)
+            if n > 4:  # the angles a, b are degrees, not lengths
+                v[4:6] = [x / self.scale for x in v[4:6]]
+            try:
+                self.cutter = cutter_from_apt(v)
+            except ValueError as e:
+                raise AptError(line, str(e)) from None
         elif word == "TLAXIS":
             if n != 3:
                 raise AptError(line, f"TLAXIS needs 3 values, got {n}")
@@ -328,8 +334,7 @@ def read_apt(path: str | Path) -> AptToolpath:
             break
     if not r.tip:
         raise AptError(last or 1, "no GOTO: the file holds no toolpath")
-    cutter = r.cutter or (math.nan, math.nan)
     return AptToolpath(
         tip=np.array(r.tip, float), axis=np.array(r.axis, float), rapid=np.array(r.rapid, bool),
         feed=np.array(r.feed, float), section=np.array(r.section, int), sections=tuple(r.sections),
-        diameter=cutter[0], corner_radius=cutter[1], multax=r.multax, tip_is_centre=r.centre, **r.info)
+        cutter=r.cutter, multax=r.multax, tip_is_centre=r.centre, **r.info)

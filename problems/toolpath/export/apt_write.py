@@ -25,7 +25,7 @@ import textwrap
 
 import numpy as np
 
-from ..cutters import make_cutter
+from ..cutters import Cutter
 from .toolpath import Tool, Toolpath
 
 MAX_COLUMNS = 72
@@ -54,7 +54,7 @@ def goto(tip: np.ndarray, axis: np.ndarray | None = None) -> list[str]:
             for s in _fit(f"GOTO/{x:.4f},{y:.4f},{z:.4f},{i:.6f},{j:.6f},{k:.6f}")]
 
 
-def header(*, diameter: float, corner_radius: float, part: str = "EVOPLAN", comments: list[str] | None = None,
+def header(*, cutter: Cutter, part: str = "EVOPLAN", comments: list[str] | None = None,
            tool_number: int = 1, spindle_rpm: float | None = None, coolant: str = "ON",
            tip_is_centre: bool = False, multax: bool = True) -> list[str]:
     """The statements before the first motion: part, comments, tool point, units, tool, spindle,
@@ -65,7 +65,7 @@ def header(*, diameter: float, corner_radius: float, part: str = "EVOPLAN", comm
     for c in comments or []:  # split between words, never cut: "$$ " + 69 columns
         lines += [f"$$ {part}" for part in textwrap.wrap(c, MAX_COLUMNS - 3) or [""]]
     lines += [f"$$ TOOLPOINT {'CENTRE' if tip_is_centre else 'TIP'}", "UNITS/MM", f"LOADTL/{int(tool_number)}"]
-    lines += _fit(make_cutter(diameter, corner_radius, key="tool").apt_cutter())
+    lines += _fit(cutter.apt_cutter())
     if spindle_rpm:
         lines.append(f"SPINDL/{spindle_rpm:.0f},RPM,CLW")
     lines.append(f"COOLNT/{coolant.upper()}")
@@ -83,7 +83,7 @@ def apt_toolpath(tp: Toolpath, *, part: str = "EVOPLAN", coolant: str = "ON", ti
     before each rapid and a ``FEDRAT`` wherever the feed changes (plunge or cutting), a
     ``$$ <label> k`` comment (or the section's name) where each section starts, footer."""
     multax = tp.multi_axis
-    lines = header(diameter=tp.tool.diameter, corner_radius=tp.tool.corner_radius, part=part,
+    lines = header(cutter=tp.tool.cutter, part=part,
                    comments=tp.comments, tool_number=tp.tool.number, spindle_rpm=tp.tool.spindle_rpm,
                    coolant=coolant, tip_is_centre=tip_is_centre, multax=multax)
     feed, section = None, -1
@@ -103,7 +103,7 @@ def apt_toolpath(tp: Toolpath, *, part: str = "EVOPLAN", coolant: str = "ON", ti
 
 
 def apt_program(
-    tip: np.ndarray, axis: np.ndarray, pass_index: np.ndarray, *, diameter: float, corner_radius: float,
+    tip: np.ndarray, axis: np.ndarray, pass_index: np.ndarray, *, cutter: Cutter,
     feed_rate: float, part: str = "EVOPLAN", comments: list[str] | None = None, clearance: float = 10.0,
     plunge_feed: float | None = None, tool_number: int = 1, spindle_rpm: float | None = None,
     coolant: str = "ON", tip_is_centre: bool = False,
@@ -115,7 +115,7 @@ def apt_program(
     (m,) the pass of each point (a ``$$ PASS k`` comment marks where each one starts).
     ``plunge_feed``: feed of the move down to the first point (default: half ``feed_rate``).
     """
-    tool = Tool(tool_number, diameter, corner_radius, spindle_rpm)
+    tool = Tool(tool_number, cutter, spindle_rpm)
     tp = Toolpath.from_passes("finish", tool, tip, axis, pass_index, feed=feed_rate, plunge_feed=plunge_feed,
                               clearance=clearance, comments=comments)
     return apt_toolpath(tp, part=part, coolant=coolant, tip_is_centre=tip_is_centre)

@@ -48,10 +48,10 @@ class GcodeError(ValueError):
         self.line = line
 
 
-def read_gcode(path: str | Path, diameter: float, corner_radius: float = 0.0, kinematics=None,
+def read_gcode(path: str | Path, cutter, kinematics=None,
                chord_tol: float = 0.01) -> AptToolpath:
-    """The toolpath of a G-code program (module docstring) with the cutter (diameter,
-    corner_radius) given; ``kinematics`` (``export.kinematics.Kinematics``) turns rotary words
+    """The toolpath of a G-code program (module docstring) with the cutter (a
+    ``cutters.Cutter``) given; ``kinematics`` (``export.kinematics.Kinematics``) turns rotary words
     into tool axes (None: a rotary word is refused)."""
     data = Path(path).read_bytes()
     try:
@@ -178,7 +178,7 @@ def read_gcode(path: str | Path, diameter: float, corner_radius: float = 0.0, ki
     multax = kinematics is not None and not np.allclose(axis, [0, 0, 1])
     return AptToolpath(tip=tip[first:], axis=axis[first:], rapid=np.array(rapid[first:], bool),
                        feed=np.array(feeds[first:], float), section=np.full(len(tip) - first, -1),
-                       sections=(), diameter=float(diameter), corner_radius=float(corner_radius),
+                       sections=(), cutter=cutter,
                        multax=multax, tip_is_centre=False, part=Path(path).name, ignored=ignored)
 
 

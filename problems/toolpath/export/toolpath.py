@@ -13,23 +13,25 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..cutters import Cutter, make_cutter
+from ..cutters import Cutter
 
 
 @dataclass
 class Tool:
-    """The cutter as the NC program needs it: number, diameter D, corner radius r (0: flat
-    end mill, D/2: ball end mill), spindle speed (rpm)."""
+    """The cutter as the NC program needs it: number, the :class:`~..cutters.Cutter`, spindle
+    speed (rpm)."""
 
     number: int
-    diameter: float
-    corner_radius: float = 0.0
+    cutter: Cutter
     spindle_rpm: float | None = 6000.0
 
+    def __post_init__(self):
+        if not isinstance(self.cutter, Cutter):
+            raise ValueError(f"tool {self.number}: the cutter must be a Cutter, got {self.cutter!r}")
+
     @property
-    def cutter(self) -> Cutter:
-        """The cutter's shape (``cutters.make_cutter``: flat, ball or toroidal from D and r)."""
-        return make_cutter(self.diameter, self.corner_radius, key="tool")
+    def diameter(self) -> float:
+        return self.cutter.diameter
 
     def label(self) -> str:
         return self.cutter.short_label()

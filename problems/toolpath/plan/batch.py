@@ -103,10 +103,10 @@ class PlanBatch:
         return np.arange(self.sec_start[secs[0]],
                          self.sec_start[secs[-1]] + self.sec_count[secs[-1]])
 
-    def cl_path(self, i: int, diameter: float, corner_radius: float,
-                feed_rate: float = 1000.0) -> CLPath:
+    def cl_path(self, i: int, cutter, feed_rate: float = 1000.0) -> CLPath:
         """Individual i's toolpath as the machine runs it: its CL points, one section per
-        feed motion, passes numbered across zones, zone labels; ``info`` holds the CC points
+        feed motion, passes numbered across zones, zone labels, the ``cutter`` (a
+        ``cutters.Cutter``); ``info`` holds the CC points
         (``cc``), their ``uv``, ``normal`` and ``on_part``."""
         if self.tip is None:
             raise ValueError("plan: the tool was not placed (plan with place=True)")
@@ -118,7 +118,7 @@ class PlanBatch:
         _, pass_index = np.unique(key, return_inverse=True)
         info = {"cc": self.p[idx], "uv": np.column_stack([self.u[idx], self.v[idx]]),
                 "normal": self.normal[idx], "on_part": self.on_part[idx]}
-        return CLPath(self.tip[idx], self.axis[idx], diameter, corner_radius,
+        return CLPath(self.tip[idx], self.axis[idx], cutter,
                       section=sec - sec.min(initial=0), pass_index=pass_index, zone=zone,
                       feed_rate=feed_rate, info=info)
 

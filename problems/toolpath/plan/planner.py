@@ -172,7 +172,7 @@ class Planner:
         one = {k: np.atleast_1d(np.asarray(v))[:1] for k, v in genes.items()}
         batch = self.plan(one, place=True)
         tool = self.tools.tools[int(one["tool"][0])]
-        path = batch.cl_path(0, tool.diameter, tool.corner_radius, feed_rate)
+        path = batch.cl_path(0, tool.cutter, feed_rate)
         if self.machine.name != "3axis":
             return path
         pts = {"uv": path.info["uv"], "cc": path.info["cc"], "normal": path.info["normal"],
@@ -191,7 +191,6 @@ class Planner:
                                        chord_rounds)
         info = {"cc": pts["cc"], "uv": pts["uv"], "normal": pts["normal"],
                 "on_part": pts["on_part"], "inserted": pts["inserted"], **stats}
-        return CLPath(pts["tip"], np.array([0.0, 0.0, 1.0]), tool.diameter,
-                      tool.corner_radius, section=pts["section"],
+        return CLPath(pts["tip"], np.array([0.0, 0.0, 1.0]), cutter, section=pts["section"],
                       pass_index=pts["pass_index"], zone=pts["zone"], feed_rate=feed_rate,
                       info=info)

@@ -17,6 +17,7 @@ from ..export.kinematics import Kinematics, ReachError, Rotary
 from ..export.posts import POSTS, Machine, PostError
 from ..export.safety import check_program
 from ..export.toolpath import Tool
+from ..cutters import make_cutter
 from ..geometry.spec import parse_surface
 from .budget import check_sizes
 from .figures import layers_png
@@ -25,8 +26,11 @@ from .operations import ball_on_offset, block_stock, finish_from_plan, roughing,
 PLAN_KEYS = ("feed_rate", "tolerance", "feed_angle", "allowance", "tools", "ranges")
 
 
-def _tool(c: dict) -> Tool:
-    return Tool(int(c["number"]), float(c["diameter"]), 0.0, float(c["spindle"]))
+def _tool(c: dict, kind: str = "flat") -> Tool:
+    """The NC tool of a roughing / semi-finish / finish entry: a flat end mill, or the ball
+    of its diameter (``kind="ball"``)."""
+    return Tool(int(c["number"]), make_cutter(float(c["diameter"]), kind=kind, key="tool"),
+                float(c["spindle"]))
 
 
 def _kinematics(k: dict) -> Kinematics:
@@ -133,8 +137,7 @@ def build_operations(cfg: dict, base_dir=None, plan=None, max_bytes: float | Non
         allowance_semi=al["semifinish"], allowance_finish=al["finish"], feed=ro["feed"],
         plunge_feed=ro["plunge_feed"], tolerance=ro["tolerance"], rapid=post_cfg["rapid_rate"])
     se = cfg["semifinish"]
-    semi_tool = _tool(se["tool"])
-    semi_tool.corner_radius = 0.5 * semi_tool.diameter
+    semi_tool = _tool(se["tool"], "ball")
     step("semi-finish")
     semi, semi_folded = ball_on_offset(surface, semi_tool, allowance=al["finish"], stepover=se["stepover"],
                                        step=se["step"], feed=se["feed"], plunge_feed=se["plunge_feed"],
@@ -147,8 +150,7 @@ def build_operations(cfg: dict, base_dir=None, plan=None, max_bytes: float | Non
         finish_info["params"] = dict(variables)
         finish_info["from_run"] = plan is not None
     else:
-        fin_tool = _tool(fin["tool"])
-        fin_tool.corner_radius = 0.5 * fin_tool.diameter
+        fin_tool = _tool(fin["tool"], "ball")
         finish, finish_info["folded_offset_points"] = ball_on_offset(
             surface, fin_tool, allowance=0.0, stepover=fin["stepover"], step=fin["step"], feed=fin["feed"],
             plunge_feed=fin["plunge_feed"], name="finish")

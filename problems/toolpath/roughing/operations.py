@@ -153,7 +153,7 @@ def finish_from_plan(problem, variables: dict, number: int, spindle_rpm: float, 
     db = problem.tool_db
     tool_id = variables["tool"] if "tool" in variables else problem.fixed["tool"]
     t = db.tools[db.index_of(tool_id)]
-    tool = Tool(number, t.diameter, t.corner_radius, spindle_rpm)
+    tool = Tool(number, t.cutter, spindle_rpm)
     decisions = ", ".join(f"{k} {float(v):g}" for k, v in {**problem.fixed, **variables}.items()
                           if k != "tool")
     text = f"evoplan plan: tool {t.id} ({t.label()}), {decisions}"

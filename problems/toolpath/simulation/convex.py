@@ -55,7 +55,7 @@ def _axis_rate(nx, ny, nz, dax, day, daz):
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
-def _at(s, i, j, tip, axis, px, py, pz, dx, dy, dz, R, r, g):
+def _at(s, i, j, tip, axis, px, py, pz, dx, dy, dz, prm, g):
     """(entry, slope, 1 / cos) at move parameter s of move i -> j: the entry, its derivative
     along the move, and 1 / (normal . ray) at the entry point (0, 0 where the ray misses)."""
     vcx, vcy, vcz = tip[j, 0] - tip[i, 0], tip[j, 1] - tip[i, 1], tip[j, 2] - tip[i, 2]
@@ -63,11 +63,11 @@ def _at(s, i, j, tip, axis, px, py, pz, dx, dy, dz, R, r, g):
     cx, cy, cz = tip[i, 0] + s * vcx, tip[i, 1] + s * vcy, tip[i, 2] + s * vcz
     ax, ay, az, wax, way, waz = _axis_rate(axis[i, 0] + s * dax, axis[i, 1] + s * day,
                                            axis[i, 2] + s * daz, dax, day, daz)
-    t, face = _entry(px, py, pz, dx, dy, dz, cx, cy, cz, ax, ay, az, R, r, INF)
+    t, face = _entry(px, py, pz, dx, dy, dz, cx, cy, cz, ax, ay, az, prm, INF)
     if face == 0:
         return t, 0.0, 0.0
     g[0], g[1], g[2], g[3], g[4], g[5] = entry_gradient(t, face, px, py, pz, dx, dy, dz,
-                                                        cx, cy, cz, ax, ay, az, R, r)
+                                                        cx, cy, cz, ax, ay, az, prm)
     sl = _slope(g[:3], g[3:], vcx, vcy, vcz, wax, way, waz)
     return t, sl, _curl(g, ax, ay, az, wax, way, waz, vcx, vcy, vcz, sl)
 
@@ -113,7 +113,7 @@ def _bend(ka, kb):
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
-def _move_min(i, j, tip, axis, px, py, pz, dx, dy, dz, R, r, fa, sa, na, fb, sb, nb, best,
+def _move_min(i, j, tip, axis, px, py, pz, dx, dy, dz, prm, fa, sa, na, fb, sb, nb, best,
               tol, bend_tol, near_miss, n_golden, g, stk, stats, s0, lo, hi):
     """(best, s): the deepest entry over move i -> j (s in [0, 1]) if it is below ``best``
     (else best, -1) and where it is. fa, sa, na / fb, sb, nb: entry, slope and 1 / cos at
@@ -132,12 +132,12 @@ def _move_min(i, j, tip, axis, px, py, pz, dx, dy, dz, R, r, fa, sa, na, fb, sb,
     vlen = math.sqrt(vx * vx + vy * vy + vz * vz)
     # only [lo, hi] can cut below best (the spans' geometric bounds): its ends
     if lo > 0.0:
-        fa, sa, na = _at(lo, i, j, tip, axis, px, py, pz, dx, dy, dz, R, r, g)
+        fa, sa, na = _at(lo, i, j, tip, axis, px, py, pz, dx, dy, dz, prm, g)
         stats[2] += 1
         if fa < best:
             best, s_best = fa, lo
     if hi < 1.0:
-        fb, sb, nb = _at(hi, i, j, tip, axis, px, py, pz, dx, dy, dz, R, r, g)
+        fb, sb, nb = _at(hi, i, j, tip, axis, px, py, pz, dx, dy, dz, prm, g)
         stats[2] += 1
         if fb < best:
             best, s_best = fb, hi
@@ -146,13 +146,13 @@ def _move_min(i, j, tip, axis, px, py, pz, dx, dy, dz, R, r, fa, sa, na, fb, sb,
         vv = vx * vx + vy * vy
         sc = 0.5 * (lo + hi) if vv <= 0.0 else min(max(
             ((px - tip[i, 0]) * vx + (py - tip[i, 1]) * vy) / vv, lo), hi)
-        f, sl, nu = _at(sc, i, j, tip, axis, px, py, pz, dx, dy, dz, R, r, g)
+        f, sl, nu = _at(sc, i, j, tip, axis, px, py, pz, dx, dy, dz, prm, g)
         if f >= _HALF:
             if f - MISS > near_miss:
                 return best, s_best
             stats[3] += 1
             return min(best, _golden(i + lo, i + hi, i, i + 1, tip, axis, px, py, pz, dx, dy,
-                                     dz, R, r, n_golden)), s_best
+                                     dz, prm, n_golden)), s_best
         if f < best:
             best, s_best = f, sc
         stk[0, :] = (lo, sc, fa, sa, nu, f, sl, nu, 0.0)
@@ -190,7 +190,7 @@ def _move_min(i, j, tip, axis, px, py, pz, dx, dy, dz, R, r, fa, sa, na, fb, sb,
             kept = 0.0
         if evals == 0 and a < s0 < b:
             s = s0
-        f, sl, nu = _at(s, i, j, tip, axis, px, py, pz, dx, dy, dz, R, r, g)
+        f, sl, nu = _at(s, i, j, tip, axis, px, py, pz, dx, dy, dz, prm, g)
         evals += 1
         stats[2] += 1
         if f < best:

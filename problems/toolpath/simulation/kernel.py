@@ -36,6 +36,8 @@ import math
 import numpy as np
 from numba import njit
 
+from ..cutters.base import CONE, CYLINDER, PIECE, ROUND
+
 INF = np.inf
 #: a ray that misses a pose scores MISS + its distance outside the cutter's radius, so that a
 #: search along the path still moves towards where the pose reaches it (a flat end's sharp
@@ -45,10 +47,37 @@ _GOLD = 0.5 * (math.sqrt(5.0) - 1.0)
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
-def _entry(px, py, pz, dx, dy, dz, cx, cy, cz, ax, ay, az, R, r, cap):
-    """(t, face) of :func:`ray_entry`; face: 0 none (a miss or inf), 1 the corner torus or
-    flat bottom of a torus, 2 the ball's sphere, 3 the shank's side, 4 the plane w = r (a
-    flat end's bottom, or the shank's bottom disc)."""
+def piece_height(rho, prm):
+    """h(rho): the lower profile of the cutter (the lowest w of its pieces) at radial distance
+    rho from the axis; inf beyond the radius (or where no piece reaches)."""
+    if rho > prm[0]:
+        return INF
+    h = INF
+    for k in range(int(prm[1])):
+        b = 2 + PIECE * k
+        code = prm[b]
+        if code == CYLINDER:
+            h = min(h, prm[b + 1])
+        elif code == ROUND:
+            e, c, q = prm[b + 1], prm[b + 2], prm[b + 3]
+            if rho <= e:
+                h = min(h, c - q)
+            elif rho <= e + q:
+                h = min(h, c - math.sqrt(max(q * q - (rho - e) ** 2, 0.0)))
+        else:
+            wa, sb, cb, lo, hi = prm[b + 1], prm[b + 2], prm[b + 3], prm[b + 4], prm[b + 5]
+            w = wa + rho * cb / sb
+            if w <= hi:
+                h = min(h, max(w, lo))
+    return h
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _entry(px, py, pz, dx, dy, dz, cx, cy, cz, ax, ay, az, prm, cap):
+    """(t, face) of :func:`ray_entry`; face 0: none (a miss or inf), else 1 + 3 k + sub for
+    piece k of the kernel array: sub 0 its curved face (a cylinder's side, a torus or
+    sphere, a cone's side), 1 its bottom plane w = w_lo (a cylinder's or cone's)."""
+    R = prm[0]
     qx, qy, qz = px - cx, py - cy, pz - cz
     w0 = qx * ax + qy * ay + qz * az
     da = dx * ax + dy * ay + dz * az
@@ -70,68 +99,90 @@ def _entry(px, py, pz, dx, dy, dz, cx, cy, cz, ax, ay, az, R, r, cap):
             return MISS + math.sqrt(max(C - B * B / A, 0.0)) - R, 0
         sq = math.sqrt(disc)
         t1, t2 = (-B - sq) / A, (-B + sq) / A
-    # shank: rho(t) <= R and w(t) >= r (for r = 0 the whole flat-end cutter)
-    tw = (r - w0) / da
     best, face = INF, 0
-    if tw <= t2:
-        best, face = (tw, 4) if tw >= t1 else (t1, 3)
-    if r > 0.0 and R - r <= 1e-12 * R:
-        # ball-end: the sphere of radius r about the centre c + r a, in closed form
-        ox, oy, oz = qx - r * ax, qy - r * ay, qz - r * az
-        b = ox * dx + oy * dy + oz * dz
-        disc = b * b - (ox * ox + oy * oy + oz * oz - r * r)
-        if disc >= 0.0:
-            t = -b - math.sqrt(disc)
-            if t < best:
-                best, face = t, 2
-    elif r > 0.0:
-        # flat bottom and corner torus (points within r of the disc of radius R - r at
-        # height r), below w = r (above it the shank holds them): Newton on the distance,
-        # from the first point of the ray that can be inside (w >= 0 and rho <= R)
-        rp = R - r
-        t = max(-w0 / da, t1)
-        stop = min(tw, t2)
-        for _ in range(60):
-            if t > stop or t > cap:
-                break
-            rho2 = A * t * t + 2.0 * B * t + C
-            rho = math.sqrt(rho2) if rho2 > 0.0 else 0.0
-            w = w0 + t * da
-            re = rho - rp
-            if re < 0.0:
-                re = 0.0
-            dist = math.sqrt(re * re + (w - r) * (w - r))
-            g = dist - r
-            if g <= 1e-10:
+    lower = INF  # an iterate past the cap: a lower bound of an entry above the cap
+    for k in range(int(prm[1])):
+        b = 2 + PIECE * k
+        code = prm[b]
+        if code == CYLINDER:
+            # rho(t) <= R and w(t) >= w_lo: closed form
+            tw = (prm[b + 1] - w0) / da
+            if tw <= t2:
+                t, sub = (tw, 1) if tw >= t1 else (t1, 0)
                 if t < best:
-                    best, face = t, 1
-                break
-            drho = (A * t + B) / rho if rho > 1e-300 else 0.0
-            gp = (re * drho + (w - r) * da) / dist
-            if gp >= 0.0:
-                break
-            t -= g / gp
-        if t > cap and t < best:
-            return t, 0
+                    best, face = t, 1 + 3 * k + sub
+        elif code == ROUND and prm[b + 1] <= 1e-12 * R:
+            # a sphere of radius q about c a, in closed form
+            c, q = prm[b + 2], prm[b + 3]
+            ox, oy, oz = qx - c * ax, qy - c * ay, qz - c * az
+            bb = ox * dx + oy * dy + oz * dz
+            disc = bb * bb - (ox * ox + oy * oy + oz * oz - q * q)
+            if disc >= 0.0:
+                t = -bb - math.sqrt(disc)
+                if t < best:
+                    best, face = t, 1 + 3 * k
+        else:
+            # a torus piece (within q of the disc) or a cone frustum: Newton on a convex
+            # function of the point (the distance to the disc minus q; rho cos beta -
+            # (w - w_a) sin beta), convex along the line, from the first point of the ray
+            # that can be inside: it climbs monotonically to the first root
+            if code == ROUND:
+                e, c, q = prm[b + 1], prm[b + 2], prm[b + 3]
+                t_lo, t_hi = (c - q - w0) / da, (c + q - w0) / da
+            else:
+                wa, sb, cb = prm[b + 1], prm[b + 2], prm[b + 3]
+                t_lo, t_hi = (prm[b + 4] - w0) / da, (prm[b + 5] - w0) / da
+            t = max(t_lo, t1)
+            stop = min(t_hi, t2)
+            for _ in range(60):
+                if t > stop or t > cap or t > best:
+                    break
+                rho2 = A * t * t + 2.0 * B * t + C
+                rho = math.sqrt(rho2) if rho2 > 0.0 else 0.0
+                w = w0 + t * da
+                drho = (A * t + B) / rho if rho > 1e-300 else 0.0
+                if code == ROUND:
+                    re = rho - e
+                    if re < 0.0:
+                        re = 0.0
+                    dist = math.sqrt(re * re + (w - c) * (w - c))
+                    g = dist - q
+                    gp = (re * drho + (w - c) * da) / dist if dist > 0.0 else -1.0
+                else:
+                    g = rho * cb - (w - wa) * sb
+                    gp = drho * cb - da * sb
+                if g <= 1e-10:
+                    if t < best:
+                        sub = 1 if code == CONE and t == t_lo else 0
+                        best, face = t, 1 + 3 * k + sub
+                    break
+                if gp >= 0.0:
+                    break
+                t -= g / gp
+            if t > cap:
+                lower = min(lower, t)
+    if lower < best:
+        return lower, 0
     if best < INF:
         return best, face
     return MISS, 0
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
-def ray_entry(px, py, pz, dx, dy, dz, cx, cy, cz, ax, ay, az, R, r, cap=INF):
-    """Smallest t with p + t d inside the cutter (tip c, unit axis a, radii R, r).
+def ray_entry(px, py, pz, dx, dy, dz, cx, cy, cz, ax, ay, az, prm, cap=INF):
+    """Smallest t with p + t d inside the cutter (tip c, unit axis a, the cutter's kernel
+    array ``prm``: ``Cutter.kernel_params``).
 
     A ray that misses scores ``MISS`` plus how far outside the radius it passes; a ray that
     does not climb along the axis (d . a <= 0) never enters from below: inf.
-    ``cap``: the caller only needs entries below it; once the monotone Newton iterate passes
+    ``cap``: the caller only needs entries below it; once a monotone Newton iterate passes
     it, that iterate (a lower bound of the entry, above the cap) is returned at once.
     """
-    return _entry(px, py, pz, dx, dy, dz, cx, cy, cz, ax, ay, az, R, r, cap)[0]
+    return _entry(px, py, pz, dx, dy, dz, cx, cy, cz, ax, ay, az, prm, cap)[0]
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
-def entry_gradient(t, face, px, py, pz, dx, dy, dz, cx, cy, cz, ax, ay, az, R, r):
+def entry_gradient(t, face, px, py, pz, dx, dy, dz, cx, cy, cz, ax, ay, az, prm):
     """How the entry t moves with the pose: (gc, ga), two 3-vectors with
     dt = gc . dc - ga . da for a shift dc of the tip and a turn da (perpendicular to a) of
     the axis. At the entry point x (from the tip) the boundary g(x; c, a) = 0 holds, so by
@@ -140,6 +191,9 @@ def entry_gradient(t, face, px, py, pz, dx, dy, dz, cx, cy, cz, ax, ay, az, R, r
     dg/da = (g_w - g_rho w / rho) x. Zeros for face 0 (no entry)."""
     if face == 0:
         return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    b = 2 + PIECE * ((face - 1) // 3)
+    sub = (face - 1) % 3
+    code = prm[b]
     x = px - cx + t * dx
     y = py - cy + t * dy
     z = pz - cz + t * dz
@@ -148,19 +202,25 @@ def entry_gradient(t, face, px, py, pz, dx, dy, dz, cx, cy, cz, ax, ay, az, R, r
     rho = math.sqrt(rx * rx + ry * ry + rz * rz)
     if rho > 1e-300:
         rx, ry, rz = rx / rho, ry / rho, rz / rho
-    gw, gr = -1.0, 0.0  # face 4: g = r - w
-    if face == 1:
-        re = max(rho - (R - r), 0.0)
-        dist = math.sqrt(re * re + (w - r) * (w - r))
-        gw, gr = (w - r) / dist, re / dist
-    elif face == 2:  # the sphere about c + r a: gradient along x - r a
-        ox, oy, oz = x - r * ax, y - r * ay, z - r * az
+    gw, gr = -1.0, 0.0  # a bottom plane: g = w_lo - w
+    if sub == 1:
+        pass
+    elif code == CYLINDER:
+        gw, gr = 0.0, 1.0
+    elif code == ROUND and prm[b + 1] <= 1e-12 * prm[0]:  # the sphere about c a
+        c = prm[b + 2]
+        ox, oy, oz = x - c * ax, y - c * ay, z - c * az
         n = math.sqrt(ox * ox + oy * oy + oz * oz)
         ox, oy, oz = ox / n, oy / n, oz / n
         den = min(ox * dx + oy * dy + oz * dz, -1e-12)  # < 0: the ray goes in
-        return ox / den, oy / den, oz / den, -r * ox / den, -r * oy / den, -r * oz / den
-    elif face == 3:
-        gw, gr = 0.0, 1.0
+        return ox / den, oy / den, oz / den, -c * ox / den, -c * oy / den, -c * oz / den
+    elif code == ROUND:
+        e, c = prm[b + 1], prm[b + 2]
+        re = max(rho - e, 0.0)
+        dist = math.sqrt(re * re + (w - c) * (w - c))
+        gw, gr = (w - c) / dist, re / dist
+    else:
+        gw, gr = -prm[b + 2], prm[b + 3]
     nx, ny, nz = gw * ax + gr * rx, gw * ay + gr * ry, gw * az + gr * rz
     den = min(nx * dx + ny * dy + nz * dz, -1e-12)
     k = (gw - gr * w / rho) / den if rho > 1e-300 else gw / den
@@ -193,27 +253,27 @@ def _pose(s, lo, hi, tip, axis):
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
-def _entry_at(s, lo, hi, tip, axis, px, py, pz, dx, dy, dz, R, r, cap):
+def _entry_at(s, lo, hi, tip, axis, px, py, pz, dx, dy, dz, prm, cap):
     cx, cy, cz, ax, ay, az = _pose(s, lo, hi, tip, axis)
-    return ray_entry(px, py, pz, dx, dy, dz, cx, cy, cz, ax, ay, az, R, r, cap)
+    return ray_entry(px, py, pz, dx, dy, dz, cx, cy, cz, ax, ay, az, prm, cap)
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
-def _golden(a, b, lo, hi, tip, axis, px, py, pz, dx, dy, dz, R, r, n_iter):
+def _golden(a, b, lo, hi, tip, axis, px, py, pz, dx, dy, dz, prm, n_iter):
     """min of the entry parameter over path positions [a, b] by golden-section search."""
     x1 = b - _GOLD * (b - a)
     x2 = a + _GOLD * (b - a)
-    f1 = _entry_at(x1, lo, hi, tip, axis, px, py, pz, dx, dy, dz, R, r, INF)
-    f2 = _entry_at(x2, lo, hi, tip, axis, px, py, pz, dx, dy, dz, R, r, INF)
+    f1 = _entry_at(x1, lo, hi, tip, axis, px, py, pz, dx, dy, dz, prm, INF)
+    f2 = _entry_at(x2, lo, hi, tip, axis, px, py, pz, dx, dy, dz, prm, INF)
     for _ in range(n_iter):
         if f1 <= f2:
             b, x2, f2 = x2, x1, f1
             x1 = b - _GOLD * (b - a)
-            f1 = _entry_at(x1, lo, hi, tip, axis, px, py, pz, dx, dy, dz, R, r, INF)
+            f1 = _entry_at(x1, lo, hi, tip, axis, px, py, pz, dx, dy, dz, prm, INF)
         else:
             a, x1, f1 = x1, x2, f2
             x2 = a + _GOLD * (b - a)
-            f2 = _entry_at(x2, lo, hi, tip, axis, px, py, pz, dx, dy, dz, R, r, INF)
+            f2 = _entry_at(x2, lo, hi, tip, axis, px, py, pz, dx, dy, dz, prm, INF)
     return min(f1, f2)
 
 

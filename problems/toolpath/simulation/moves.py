@@ -21,7 +21,7 @@ import numpy as np
 from numba import njit
 
 from .convex import _HALF, _axis_rate, _curl, _move_min, _slope
-from .kernel import INF, _entry, _ray, entry_gradient
+from .kernel import INF, _entry, _ray, entry_gradient, piece_height
 
 #: a move whose whole-move geometric bound fails is bounded again over this many spans
 SPANS = 4
@@ -76,12 +76,12 @@ def tiles(x0, y0, h, ny, nx, ts, tip, mv_i, mv_j, mv_reach):
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
-def _point(k, tip, axis, px, py, pz, dx, dy, dz, R, r, g):
+def _point(k, tip, axis, px, py, pz, dx, dy, dz, prm, g):
     t, face = _entry(px, py, pz, dx, dy, dz, tip[k, 0], tip[k, 1], tip[k, 2], axis[k, 0],
-                     axis[k, 1], axis[k, 2], R, r, INF)
+                     axis[k, 1], axis[k, 2], prm, INF)
     g[0], g[1], g[2], g[3], g[4], g[5] = entry_gradient(
         t, face, px, py, pz, dx, dy, dz, tip[k, 0], tip[k, 1], tip[k, 2], axis[k, 0],
-        axis[k, 1], axis[k, 2], R, r)
+        axis[k, 1], axis[k, 2], prm)
     return t
 
 
@@ -127,7 +127,7 @@ def _geo(i, j, tip, axis, px, py, pz, dx, dy, dz, e):
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
-def _geo_spans(i, j, tip, axis, px, py, pz, T, R, r, whole, e):
+def _geo_spans(i, j, tip, axis, px, py, pz, T, prm, whole, e):
     """(lo, hi): the stretch of move i -> j (in s) outside which it cannot cut below T, from
     :func:`_geo_bound` over the move cut into ``SPANS`` equal spans; lo > hi where no span
     can. Over a whole move the height of the ray's start above the tip plane changes by the
@@ -166,13 +166,13 @@ def _geo_spans(i, j, tip, axis, px, py, pz, T, R, r, whole, e):
         e[0] = dd - lt
         e[1] = max(wi, wj) + lt
         e[2] = max(abs(wi), abs(wj)) + lt
-        if not _geo_bound(e, T, R, r) >= T:  # (nan where the ray runs along the axis)
+        if not _geo_bound(e, T, prm) >= T:  # (nan where the ray runs along the axis)
             lo, hi = min(lo, s1 - 1.0 / SPANS), s1
     return lo, hi
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
-def _geo_bound(e, T, R, r):
+def _geo_bound(e, T, prm):
     """A lower bound of every entry below T over the move (-inf if none is known): an entry
     at t lies in the cutter above its tip plane (t >= -w0 / (a . d), so |t| <= tau), within
     the radius of the axis, where the ray is at least U - tau |d_perp| from it, and there
@@ -181,17 +181,16 @@ def _geo_bound(e, T, R, r):
         return -INF
     tau = max(abs(T), e[2] / e[3])
     rho = e[0] - tau * e[5]
-    if rho > R:
+    if rho > prm[0]:
         return INF
-    rp = R - r
-    hr = 0.0 if rho <= rp else r - math.sqrt(max(r * r - (rho - rp) ** 2, 0.0))
+    hr = piece_height(max(rho, 0.0), prm)
     num = hr - e[1]
     return num / e[4] if num > 0.0 else num / e[3]
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
 def sweep_moves(res, x0, y0, h, pz, nrm, inside, vertical, tip, axis, mv_i, mv_j, mv_reach,
-                ts, ptr, tile_mv, R, r, tol, bend_tol, near_miss, n_golden, stats):
+                ts, ptr, tile_mv, prm, tol, bend_tol, near_miss, n_golden, stats):
     """Lower ``res`` (ny, nx) to the deepest entry over all moves (see the module doc).
     ``stats`` (4,) counts: entries at CL points, moves searched, entries in the searches,
     golden-section fallbacks."""
@@ -254,10 +253,10 @@ def sweep_moves(res, x0, y0, h, pz, nrm, inside, vertical, tip, axis, mv_i, mv_j
                     lo, hi = 0.0, 1.0
                     if best < _HALF:
                         _geo(i, j, tip, axis, px, py, p_z, dx, dy, dz, geo)
-                        if _geo_bound(geo, best, R, r) >= best:
+                        if _geo_bound(geo, best, prm) >= best:
                             continue
                         if m != hint_m:
-                            lo, hi = _geo_spans(i, j, tip, axis, px, py, p_z, best, R, r,
+                            lo, hi = _geo_spans(i, j, tip, axis, px, py, p_z, best, prm,
                                                 geo, gs)
                             if lo > hi:
                                 continue
@@ -270,7 +269,7 @@ def sweep_moves(res, x0, y0, h, pz, nrm, inside, vertical, tip, axis, mv_i, mv_j
                             cg[c, 0, :] = cg[c - 1, 1, :]
                         else:
                             stats[0] += 1
-                            f0 = _point(i, tip, axis, px, py, p_z, dx, dy, dz, R, r, cg[c, 0])
+                            f0 = _point(i, tip, axis, px, py, p_z, dx, dy, dz, prm, cg[c, 0])
                         have[c, 0] = True
                         cf[c, 1], cf[c, 2] = _end_slope(cg[c, 0], i, i, j, tip, axis)
                     if hi == 1.0:
@@ -282,7 +281,7 @@ def sweep_moves(res, x0, y0, h, pz, nrm, inside, vertical, tip, axis, mv_i, mv_j
                             cg[c, 1, :] = cg[c + 1, 0, :]
                         else:
                             stats[0] += 1
-                            f1 = _point(j, tip, axis, px, py, p_z, dx, dy, dz, R, r, cg[c, 1])
+                            f1 = _point(j, tip, axis, px, py, p_z, dx, dy, dz, prm, cg[c, 1])
                         have[c, 1] = True
                         cf[c, 4], cf[c, 5] = _end_slope(cg[c, 1], j, i, j, tip, axis)
                     cf[c, 0] = f0
@@ -292,7 +291,7 @@ def sweep_moves(res, x0, y0, h, pz, nrm, inside, vertical, tip, axis, mv_i, mv_j
                         best, best_m, best_s = f0, m, 0.0
                     if have[c, 1] and f1 < best:
                         best, best_m, best_s = f1, m, 1.0
-                    got, s_got = _move_min(i, j, tip, axis, px, py, p_z, dx, dy, dz, R, r,
+                    got, s_got = _move_min(i, j, tip, axis, px, py, p_z, dx, dy, dz, prm,
                                            cf[c, 0], cf[c, 1], cf[c, 2], cf[c, 3], cf[c, 4],
                                            cf[c, 5], best, tol, bend_tol, near_miss, n_golden,
                                            gs, stk, stats, hint_s if m == hint_m else -1.0,

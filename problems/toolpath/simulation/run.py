@@ -29,7 +29,7 @@ class Simulation:
         """The ``simulation.json`` record."""
         return {**self.metrics, "grid_mm": self.grid.h, "cl_points": len(path),
                 "rays": "vertical" if self.residual.vertical else "normal",
-                "cutter": {"diameter": path.diameter, "corner_radius": path.corner_radius},
+                "cutter": path.cutter.to_dict(),
                 "cells": int(self.grid.inside.sum()), "seconds": seconds,
                 "sweep_seconds": self.residual.seconds, "zones": self.zones}
 

@@ -38,7 +38,7 @@ def _keep(fs, ks, iy, ix, f, k, near):
 
 @njit(cache=True, nogil=True, error_model="numpy")
 def _stamp(fs, ks, x0, y0, h, pz, nrm, inside, vertical, tip, axis, pose_s, pose_lo, pose_hi,
-           pose_reach, R, r, near):
+           pose_reach, prm, near):
     """Phase 1 of :func:`sweep`: every pose on every cell within its reach (serial: a parallel
     region per pose costs more than it saves)."""
     n_slots, ny, nx = fs.shape
@@ -62,14 +62,14 @@ def _stamp(fs, ks, x0, y0, h, pz, nrm, inside, vertical, tip, axis, pose_s, pose
                 for j in range(1, n_slots):
                     cap = max(cap, fs[j, iy, ix])
                 dx, dy, dz = _ray(iy, ix, vertical, nrm)
-                f = ray_entry(px, py, pz[iy, ix], dx, dy, dz, cx, cy, cz, ax, ay, az, R, r, cap)
+                f = ray_entry(px, py, pz[iy, ix], dx, dy, dz, cx, cy, cz, ax, ay, az, prm, cap)
                 if f < cap:
                     _keep(fs, ks, iy, ix, f, k, near)
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
 def _refine(res, fs, ks, x0, y0, h, pz, nrm, vertical, tip, axis, pose_s, pose_ds, pose_lo,
-            pose_hi, R, r, n_golden):
+            pose_hi, prm, n_golden):
     """Phase 2 of :func:`sweep`: golden-section search around every kept pose. Serial, like
     the stamps: a simulation runs on one core, and a population's simulations run in
     parallel processes (numba's thread pool does not survive a fork)."""
@@ -92,12 +92,12 @@ def _refine(res, fs, ks, x0, y0, h, pz, nrm, vertical, tip, axis, pose_s, pose_d
                 b = min(pose_s[k] + pose_ds[k], float(hi))
                 if b > a:
                     best = min(best, _golden(a, b, lo, hi, tip, axis, px, py, pz[iy, ix],
-                                             dx, dy, dz, R, r, n_golden))
+                                             dx, dy, dz, prm, n_golden))
             res[iy, ix] = best if best < 0.5 * MISS else INF
 
 
 def sweep(res, x0, y0, h, pz, nrm, inside, vertical, tip, axis, pose_s, pose_ds, pose_lo,
-          pose_hi, pose_reach, R, r, n_slots, near, n_golden):
+          pose_hi, pose_reach, prm, n_slots, near, n_golden):
     """Lower ``res`` (ny, nx) to the deepest entry of the swept cutter; in place.
 
     Grid: cell (iy, ix) has its centre at (x0 + ix h, y0 + iy h), design point z ``pz``,
@@ -120,6 +120,6 @@ def sweep(res, x0, y0, h, pz, nrm, inside, vertical, tip, axis, pose_s, pose_ds,
     fs = np.full((n_slots, ny, nx), INF)
     ks = np.full((n_slots, ny, nx), -1, np.int64)
     _stamp(fs, ks, x0, y0, h, pz, nrm, inside, vertical, tip, axis, pose_s, pose_lo, pose_hi,
-           pose_reach, R, r, near)
+           pose_reach, prm, near)
     _refine(res, fs, ks, x0, y0, h, pz, nrm, vertical, tip, axis, pose_s, pose_ds, pose_lo,
-            pose_hi, R, r, n_golden)
+            pose_hi, prm, n_golden)

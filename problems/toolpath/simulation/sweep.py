@@ -2,8 +2,8 @@
 
 Prepares what the kernels visit. By moves (the default, ``moves.py``): every feed move
 (consecutive CL points of one section) and every section of one point, each with how far
-from its tip's segment (in XY) it can cut: the radius, plus the lean of a tilted axis over
-the corner radius, plus two cells. By stamps (the reference, ``stamp.py``): poses at most
+from its tip's segment (in XY) it can cut: ``Cutter.reach`` (the radius, plus the lean of a
+tilted axis over the height of the cutting end), plus two cells. By stamps (the reference, ``stamp.py``): poses at most
 ``pose_step`` mm of tip travel apart along the feed moves, each with its path position, the
 distance to its neighbours (the refinement's bracket), its section and the same reach.
 Rapid moves between sections do not cut.
@@ -107,22 +107,22 @@ def moves(path: CLPath, h: float):
     order = np.argsort(mi, kind="stable")
     mi, mj = mi[order], mj[order]
     sin_tilt = np.sqrt(np.clip(1.0 - path.axis[:, 2] ** 2, 0.0, 1.0))
-    reach = path.radius + path.corner_radius * np.maximum(sin_tilt[mi], sin_tilt[mj]) + 2.0 * h
+    reach = path.cutter.reach(np.maximum(sin_tilt[mi], sin_tilt[mj])) + 2.0 * h
     return mi, mj, reach
 
 
 def _sweep_stamps(path, grid, res, vertical, pose_step, tol, n_slots):
-    R, r, h = path.radius, path.corner_radius, grid.h
+    cutter, h = path.cutter, grid.h
     if pose_step is None:
-        pose_step = 0.75 if r >= 0.5 else 0.25
+        pose_step = 0.75 if cutter.corner_radius >= 0.5 else 0.25
     pose_step = float(pose_step)
     s, ds, lo, hi = poses(path, pose_step)
     pi = np.minimum(np.floor(s).astype(np.int64), len(path) - 1)
     sin_tilt = np.sqrt(np.clip(1.0 - path.axis[:, 2] ** 2, 0.0, 1.0))
-    reach = R + r * sin_tilt[pi] + 2.0 * h
+    reach = cutter.reach(sin_tilt[pi]) + 2.0 * h
     n_golden = max(int(np.ceil(np.log(tol / (2.0 * pose_step)) / np.log(_GOLD))), 1)
     sweep_stamps(res, grid.x0, grid.y0, h, grid.z, grid.normal, grid.inside, bool(vertical),
-                 path.tip, path.axis, s, ds, lo, hi, reach, float(R), float(r), int(n_slots),
+                 path.tip, path.axis, s, ds, lo, hi, reach, cutter.kernel_params(), int(n_slots),
                  2, n_golden)
     return len(s), None
 
@@ -150,7 +150,7 @@ def _only(ptr: np.ndarray, tile_mv: np.ndarray, tiles_kept: np.ndarray):
 
 
 def _sweep_moves(path, grid, res, vertical, tol, bend_tol, near_miss, tile_mm, threads=1):
-    R, r, h = path.radius, path.corner_radius, grid.h
+    h, prm = grid.h, path.cutter.kernel_params()
     mi, mj, reach = moves(path, h)
     ny, nx = grid.shape
     ts = max(int(round(tile_mm / h)), 1)
@@ -161,7 +161,7 @@ def _sweep_moves(path, grid, res, vertical, tol, bend_tol, near_miss, tile_mm, t
     def sweep(tile_ptr, moves_of_tiles):
         stats = np.zeros(4, np.int64)
         sweep_moves(res, grid.x0, grid.y0, h, grid.z, grid.normal, grid.inside, bool(vertical),
-                    path.tip, path.axis, mi, mj, reach, ts, tile_ptr, moves_of_tiles, float(R), float(r),
+                    path.tip, path.axis, mi, mj, reach, ts, tile_ptr, moves_of_tiles, prm,
                     float(tol), float(bend_tol), float(near_miss), n_golden, stats)
         return stats
 

@@ -3,6 +3,7 @@
 import numpy as np
 import pytest
 
+from evoplan.problems.toolpath.cutters import make_cutter
 from evoplan.problems.toolpath.export.apt_read import AptError, read_apt
 from evoplan.problems.toolpath.export.apt_write import apt_program
 
@@ -16,7 +17,7 @@ def _path(rng, m=40):
 
 def test_write_then_read_gives_the_same_toolpath(tmp_path):
     tip, axis, passes = _path(np.random.default_rng(5))
-    text = apt_program(tip, axis, passes, diameter=12, corner_radius=2, feed_rate=1500, plunge_feed=300,
+    text = apt_program(tip, axis, passes, cutter=make_cutter(12, 2), feed_rate=1500, plunge_feed=300,
                        tool_number=7, spindle_rpm=8000, comments=["x" * 200], clearance=10)
     assert max(map(len, text.splitlines())) <= 72
     (tmp_path / "a.apt").write_text(text)
@@ -30,7 +31,7 @@ def test_write_then_read_gives_the_same_toolpath(tmp_path):
     np.testing.assert_allclose(np.linalg.norm(tp.axis, axis=1), 1, atol=1e-12)
     assert tp.section[cut].tolist() == passes.tolist() and tp.sections == ("PASS 0", "PASS 1", "PASS 2", "PASS 3")
     assert tp.feed[cut][0] == 300 and np.all(tp.feed[cut][1:] == 1500) and np.isnan(tp.feed[0])
-    assert (tp.diameter, tp.corner_radius, tp.multax, tp.tip_is_centre) == (12, 2, True, False)
+    assert (tp.cutter.diameter, tp.cutter.corner_radius, tp.multax, tp.tip_is_centre) == (12, 2, True, False)
     assert (tp.tool_number, tp.spindle_rpm, tp.coolant) == (7, 8000, "OFF")
 
 
@@ -62,7 +63,7 @@ GOTO/this is never read
     assert tp.rapid.tolist() == [True, False, False, False, False]
     assert np.isnan(tp.feed[0]) and np.all(tp.feed[1:] == 10 * mm)
     assert tp.section.tolist() == [-1, -1, -1, -1, 0] and tp.sections == ("ZONE 2 PASS 7",)
-    assert (tp.diameter, tp.corner_radius) == (0.5 * mm, 0.25 * mm)
+    assert (tp.cutter.diameter, tp.cutter.corner_radius) == (0.5 * mm, 0.25 * mm)
     assert tp.tip_is_centre and not tp.multax and tp.part == "SOME OTHER CAM"
     np.testing.assert_allclose(tp.start, [0, 0, 4 * mm])
 
@@ -102,7 +103,7 @@ def test_non_utf8_names_its_line(tmp_path):
 
 def test_centre_programmed_paths_say_so(tmp_path):
     tip, axis, passes = _path(np.random.default_rng(2), m=8)
-    text = apt_program(tip, axis, passes, diameter=10, corner_radius=5, feed_rate=900, tip_is_centre=True)
+    text = apt_program(tip, axis, passes, cutter=make_cutter(10, 5), feed_rate=900, tip_is_centre=True)
     assert "$$ TOOLPOINT CENTRE" in text.splitlines()
     (tmp_path / "c.apt").write_text(text)
     tp = read_apt(tmp_path / "c.apt")
@@ -137,7 +138,7 @@ END-OF-PATH
 def test_nx_and_creo_statements_read_to_the_expected_path(tmp_path):
     (tmp_path / "nx.cls").write_text(NX)
     tp = read_apt(tmp_path / "nx.cls")
-    assert (tp.diameter, tp.corner_radius, tp.tool_number, tp.spindle_rpm) == (10.0, 1.0, 4, 6000.0)
+    assert (tp.cutter.diameter, tp.cutter.corner_radius, tp.tool_number, tp.spindle_rpm) == (10.0, 1.0, 4, 6000.0)
     np.testing.assert_allclose(tp.start, [0, 0, 50])
     np.testing.assert_allclose(tp.tip[0], [10, 0, 5])
     np.testing.assert_allclose(tp.tip[-2], [0, 10, 2])          # the plunge after the arc
@@ -171,7 +172,7 @@ FINI
 """
     (tmp_path / "creo.ncl").write_text(text)
     tp = read_apt(tmp_path / "creo.ncl")
-    assert tp.spindle_rpm == 6000 and tp.diameter == 12 and tp.ignored == {}
+    assert tp.spindle_rpm == 6000 and tp.cutter.diameter == 12 and tp.ignored == {}
     # about -Z, counter-clockwise is clockwise seen from above: (0, 5) -> (5, 0) the short way
     ang = np.arctan2(tp.tip[:, 1], tp.tip[:, 0])
     assert np.all(np.diff(ang) < 0) and len(tp.tip) < 40

@@ -4,6 +4,7 @@ other systems within the chord tolerance; pygcode parses every line we write."""
 import numpy as np
 import pytest
 
+from evoplan.problems.toolpath.cutters import make_cutter
 from evoplan.problems.toolpath.export.gcode_read import GcodeError, read_gcode
 from evoplan.problems.toolpath.export.kinematics import Kinematics, Rotary
 from evoplan.problems.toolpath.export.posts import POSTS, Machine
@@ -13,7 +14,7 @@ KIN = Kinematics("table_table", Rotary("A", "x", (-30, 110)), Rotary("C", "z", (
 
 
 def paths():
-    three = Toolpath("rough", Tool(1, 12, 0, 6000), [[0, 0, 30], [0, 0, 11], [0, 0, 10], [50, 0, 9.5],
+    three = Toolpath("rough", Tool(1, make_cutter(12, 0), 6000), [[0, 0, 30], [0, 0, 11], [0, 0, 10], [50, 0, 9.5],
                                                      [50, 10, 9.5], [0, 10, 9], [0, 10, 30]],
                      np.tile([0, 0, 1.0], (7, 1)), [1, 1, 0, 0, 0, 0, 1], [0, 0, 1, 0, 0, 0, 0],
                      [-1, -1, 0, 0, 0, 0, -1], feed=800, plunge_feed=200)
@@ -23,7 +24,7 @@ def paths():
     axis = np.column_stack([np.sin(t) * np.cos(phi), np.sin(t) * np.sin(phi), np.full(m, np.cos(t))])
     x = np.linspace(0, 80, m)
     tip = np.column_stack([x, 5 * np.sin(x / 9), 2 * np.cos(x / 7)])
-    five = Toolpath.from_passes("finish", Tool(3, 12, 6, 9000), tip, axis, np.arange(m) // 20, feed=1200)
+    five = Toolpath.from_passes("finish", Tool(3, make_cutter(12, 6), 9000), tip, axis, np.arange(m) // 20, feed=1200)
     return three, five
 
 
@@ -34,7 +35,7 @@ def test_our_programs_read_back_to_the_toolpath_we_wrote(tmp_path, name):
         post = POSTS[name](Machine(KIN if post_five(name) else None, safe_z=60.0))
         f = tmp_path / f"{tp.name}.nc"
         f.write_text(post.program(tp))
-        got = read_gcode(f, 12, tp.tool.corner_radius, KIN if post_five(name) else None)
+        got = read_gcode(f, tp.tool.cutter, KIN if post_five(name) else None)
         want = post.moves(tp)
         # the moves as written: a block that changes nothing is not written
         keep = np.r_[True, np.abs(np.diff(np.c_[want.tip, np.nan_to_num(want.angles)], axis=0)).max(axis=1) > 1e-9]
@@ -72,7 +73,7 @@ N100 G90 G0 Z50.
 M30
 %
 """)
-    tp = read_gcode(f, 10.0, 0.0)
+    tp = read_gcode(f, make_cutter(10.0, 0.0))
     assert tp.tip[0].tolist() == [10, 0, 5] and tp.tip[-1].tolist() == [-15, 0, 50] and tp.feed[1] == 300
     # the first arc: on the circle r = 10, angles rising from 0 to 90 deg
     q = tp.tip[2:]
@@ -108,7 +109,7 @@ def test_bad_programs_name_their_line(tmp_path, case):
     text, line, words = BAD[case]
     (tmp_path / "bad.nc").write_text(text)
     with pytest.raises(GcodeError) as err:
-        read_gcode(tmp_path / "bad.nc", 10.0)
+        read_gcode(tmp_path / "bad.nc", make_cutter(10.0, 0.0))
     assert str(err.value).startswith(f"LINE {line}: ") and words in str(err.value)
 
 
@@ -134,7 +135,7 @@ def test_simulate_measures_a_fanuc_program_as_the_plan(tmp_path, capsys):
     params = dict(tool=8, stepover=30.0, lead=1.0, tilt=0.5, step=8.0)
     pr = ToolpathProblem()
     path, _ = pr.cl_path(params)
-    tp = Toolpath.from_sections("finish", Tool(8, 12, 6, 9000), path.tip, path.axis, path.section, feed=1000)
+    tp = Toolpath.from_sections("finish", Tool(8, make_cutter(12, 6), 9000), path.tip, path.axis, path.section, feed=1000)
     kin = Kinematics("table_table", Rotary("A", "x", (-120, 120)), Rotary("C", "z", (-1e6, 1e6)))
     (tmp_path / "f.nc").write_text(POSTS["fanuc"](Machine(kin, safe_z=60.0)).program(tp))
     sets = [a for k, v in params.items() for a in ("--set", f"{k}={v}")]

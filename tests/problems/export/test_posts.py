@@ -3,6 +3,7 @@
 import numpy as np
 import pytest
 
+from evoplan.problems.toolpath.cutters import make_cutter
 from evoplan.problems.toolpath.export.kinematics import Kinematics, ReachError, Rotary
 from evoplan.problems.toolpath.export.posts import POSTS, Machine, PostError
 from evoplan.problems.toolpath.export.toolpath import Tool, Toolpath
@@ -22,7 +23,7 @@ def cone_path(m=120, tilt_deg=25.0, turns=0.5):
     axis = np.column_stack([np.sin(t) * np.cos(phi), np.sin(t) * np.sin(phi), np.full(m, np.cos(t))])
     x = np.linspace(0, 80, m)
     tip = np.column_stack([x, 5 * np.sin(x / 9), 2 * np.cos(x / 7)])
-    return Toolpath.from_passes("finish", Tool(8, 12, 6, 9000), tip, axis, np.arange(m) * 4 // m, feed=1200)
+    return Toolpath.from_passes("finish", Tool(8, make_cutter(12, 6), 9000), tip, axis, np.arange(m) * 4 // m, feed=1200)
 
 
 @pytest.mark.parametrize("layout,about", LAYOUTS)
@@ -67,7 +68,7 @@ def test_large_turns_split_at_small_tilt_and_reposition_at_large_tilt():
     for tilt, repositions in ((2.0, 0), (30.0, 1)):
         t, phi = np.radians(tilt), np.radians([0.0, 0.0, 120.0, 120.0])
         axis = np.column_stack([np.sin(t) * np.cos(phi), np.sin(t) * np.sin(phi), np.full(4, np.cos(t))])
-        tp = Toolpath("f", Tool(1, 10, 5), [[0, 0, 10], [0, 0, 0], [3, 0, 0], [6, 0, 0]], axis,
+        tp = Toolpath("f", Tool(1, make_cutter(10, 5)), [[0, 0, 10], [0, 0, 0], [3, 0, 0], [6, 0, 0]], axis,
                       [1, 0, 0, 0], [0, 1, 0, 0], [-1, 0, 0, 0], feed=1000, plunge_feed=200)
         _, unwind = k.angles(axis)
         assert unwind.sum() == repositions
@@ -91,7 +92,7 @@ def test_unreachable_axis_names_the_point():
 
 @pytest.mark.parametrize("name", sorted(POSTS))
 def test_every_line_parses_back_to_the_moves(name):
-    three = Toolpath("rough", Tool(1, 12, 0, 6000), [[0, 0, 30], [0, 0, 11], [0, 0, 10], [50, 0, 9.5], [50, 10, 9.5],
+    three = Toolpath("rough", Tool(1, make_cutter(12, 0), 6000), [[0, 0, 30], [0, 0, 11], [0, 0, 10], [50, 0, 9.5], [50, 10, 9.5],
                                                      [0, 10, 9], [0, 10, 30]],
                      np.tile([0, 0, 1.0], (7, 1)), [1, 1, 0, 0, 0, 0, 1], [0, 0, 1, 0, 0, 0, 0],
                      [-1, -1, 0, 0, 0, 0, -1], feed=800, plunge_feed=200)
@@ -126,7 +127,7 @@ def test_long_comments_are_split_between_words_not_cut(name):
     x = np.linspace(0, 60, m)
     tip = np.column_stack([x, np.zeros(m), np.sin(x / 9)])
     axis = cone_path(m=m).axis[1:-1] if name == "fanuc" else np.tile([0.0, 0.0, 1.0], (m, 1))
-    tp = Toolpath.from_passes("finish", Tool(8, 12, 6, 9000), tip, axis, np.arange(m) * 2 // m,
+    tp = Toolpath.from_passes("finish", Tool(8, make_cutter(12, 6), 9000), tip, axis, np.arange(m) * 2 // m,
                               feed=1200, comments=[LONG])
     post = POSTS[name](Machine(kin()) if POSTS[name].five_axis else Machine())
     program = post.program(tp).splitlines()
@@ -138,7 +139,7 @@ def test_long_comments_are_split_between_words_not_cut(name):
 def test_long_apt_comments_are_split_between_words_not_cut():
     from evoplan.problems.toolpath.export.apt_write import header
 
-    lines = header(diameter=12, corner_radius=2, comments=[LONG, "short"])
+    lines = header(cutter=make_cutter(12, 2), comments=[LONG, "short"])
     assert max(map(len, lines)) <= 72
     comments = [line[3:] for line in lines if line.startswith("$$ ") and "TOOLPOINT" not in line]
     assert " ".join(comments) == LONG + " short"

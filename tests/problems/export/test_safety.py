@@ -5,6 +5,7 @@ near the pole (and a ball keeps its centre there)."""
 import numpy as np
 import pytest
 
+from evoplan.problems.toolpath.cutters import make_cutter
 from evoplan.problems.toolpath.export.kinematics import Kinematics, Rotary
 from evoplan.problems.toolpath.export.posts import POSTS, Machine
 from evoplan.problems.toolpath.export.safety import check_program
@@ -26,7 +27,7 @@ def wild_path(m=90):
     axis = np.column_stack([np.sin(tilt) * np.cos(phi), np.sin(tilt) * np.sin(phi), np.cos(tilt)])
     x = np.linspace(0, 80, m)
     tip = np.column_stack([x, 5 * np.sin(x / 9), 2 * np.cos(x / 7)])
-    return Toolpath.from_passes("finish", Tool(3, 12, 6, 9000), tip, axis, np.arange(m) // 6, feed=1200)
+    return Toolpath.from_passes("finish", Tool(3, make_cutter(12, 6), 9000), tip, axis, np.arange(m) // 6, feed=1200)
 
 
 @pytest.mark.parametrize("name", FIVE)
@@ -72,7 +73,7 @@ def test_table_holds_near_the_pole_and_the_ball_keeps_its_centre():
     axis = np.column_stack([np.full(m, np.sin(t)), y * 0.02, np.ones(m)])
     axis /= np.linalg.norm(axis, axis=1, keepdims=True)
     tip = np.column_stack([np.zeros(m), 20 * y, np.zeros(m)])
-    tp = Toolpath.from_passes("f", Tool(3, 12, 6, 9000), tip, axis, np.zeros(m, int), feed=1000)
+    tp = Toolpath.from_passes("f", Tool(3, make_cutter(12, 6), 9000), tip, axis, np.zeros(m, int), feed=1000)
     exact = POSTS["fanuc"](Machine(kin(pole_angle=0.0), safe_z=SAFE))
     held = POSTS["fanuc"](Machine(kin(pole_angle=2.0), safe_z=SAFE))
     e, h = (p.read(p.program(tp)) for p in (exact, held))

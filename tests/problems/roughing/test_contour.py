@@ -4,6 +4,7 @@ are step-over apart."""
 import numpy as np
 from shapely.geometry import LineString
 
+from evoplan.problems.toolpath.cutters import make_cutter
 from evoplan.problems.toolpath.roughing.contour import offset_rings, slice_region
 from evoplan.problems.toolpath.roughing.layers import Grid
 
@@ -42,7 +43,7 @@ def test_contour_roughing_leaves_the_allowance_and_cuts_at_each_level(tmp_path):
                                                          [[20, 0, 4], [20, 15, 14], [20, 30, 4]],
                                                          [[40, 0, 0], [40, 15, 4], [40, 30, 0]]]}, "surface")
     stock = block_stock(surface, 1.0)
-    tp, stats, (floor, levels) = roughing(stock, "contour", Tool(1, 8, 0, 6000), d_cut=3.0, stepover=4.8,
+    tp, stats, (floor, levels) = roughing(stock, "contour", Tool(1, make_cutter(8, 0), 6000), d_cut=3.0, stepover=4.8,
                                           allowance_semi=0.5, allowance_finish=0.3, feed=800, plunge_feed=250)
     assert stats["left_min"] >= 0.8 - 0.011 and stats["rapid_volume"] == 0
     cut_z = np.unique(np.round(tp.tip[~tp.rapid & ~tp.plunge, 2], 6))

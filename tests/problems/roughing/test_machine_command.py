@@ -67,7 +67,7 @@ def test_machine_writes_every_file(tmp_path):
         tp = read_apt(out / f"{op}.apt")
         # the APT's last point is among the last moves (then the rise to the clearance plane)
         assert np.abs(moves.tip[-4:] - tp.tip[-1]).max(axis=1).min() < 1e-3
-        assert tp.multax == (op == "finish") and tp.diameter > 0
+        assert tp.multax == (op == "finish") and tp.cutter.diameter > 0
     doc = ezdxf.read(io.StringIO((out / "surface.dxf").read_text()))
     grid = doc.modelspace().query("POLYLINE")[0]
     assert grid.is_polygon_mesh and len(list(grid.vertices)) == grid.dxf.m_count * grid.dxf.n_count
@@ -135,7 +135,7 @@ def test_finish_from_a_finished_run(tmp_path, capsys):
     assert finish["from_run"] and finish["params"] == {"tool": 9, "stepover": 35.0, "lead": 1.0, "tilt": 0.5,
                                                         "step": 7.0}
     apt = read_apt(tmp_path / "out" / "finish.apt")
-    assert apt.diameter == 16 and np.nanmax(apt.feed) == 1500          # the run's tool and feed rate
+    assert apt.cutter.diameter == 16 and np.nanmax(apt.feed) == 1500          # the run's tool and feed rate
     (run / "config.yaml").write_text(RUN_CONFIG.format(z=9))         # another surface
     code = cli_main(["machine", str(config(tmp_path, dialect="fanuc")), "--out", str(tmp_path / "out2"),
                      "--from-run", str(run)])

@@ -3,6 +3,7 @@
 import numpy as np
 import pytest
 
+from evoplan.problems.toolpath.cutters import make_cutter
 from evoplan.problems.toolpath.geometry.bezier import BezierSurface
 from evoplan.problems.toolpath.export.toolpath import Tool
 from evoplan.problems.toolpath.roughing.layers import (
@@ -53,7 +54,7 @@ def test_layers_stay_between_stock_and_allowance(case):
 @pytest.mark.parametrize("method", ["morphing", "zlevel"])
 def test_zmap_depth_of_cut_and_allowance(case, method):
     grid, zs, floor, z_top, n = case
-    tool = Tool(1, 2 * R, 0.0, 6000)
+    tool = Tool(1, make_cutter(2 * R, 0.0), 6000)
     kw = dict(z_top=z_top, safe_z=z_top + 10, feed=800, plunge_feed=300, tolerance=0.01)
     if method == "morphing":
         tp = morph_path(grid, morph_layers(floor, z_top, n), tool, 0.6 * 2 * R, **kw)
@@ -73,7 +74,7 @@ def test_zmap_depth_of_cut_and_allowance(case, method):
 
 def test_air_cutting_is_measured(case):
     grid, zs, floor, z_top, n = case
-    tool = Tool(1, 2 * R, 0.0, 6000)
+    tool = Tool(1, make_cutter(2 * R, 0.0), 6000)
     layers = morph_layers(floor, z_top, n)
     kw = dict(z_top=z_top, safe_z=z_top + 10, feed=800, plunge_feed=300)
     once = morph_path(grid, layers, tool, 6.0, **kw)
@@ -96,7 +97,7 @@ def test_zlevel_links_never_cut_deeper_than_the_depth_of_cut():
     z_top, d_cut = zs.max() + 5, 2.0
     levels = z_levels(floor, z_top, layer_count(z_top, zs.min(initial=np.inf, where=np.isfinite(zs)), 0.5, 0.3, d_cut))
     kw = dict(z_top=z_top, safe_z=z_top + 10, feed=800, plunge_feed=300)
-    tool = Tool(1, 12.0, 0.0, 6000)
+    tool = Tool(1, make_cutter(12.0, 0.0), 6000)
     unchecked = StockZMap(grid, z_top).cut(zlevel_path(grid, floor, levels, tool, 7.2, **kw))
     checked = StockZMap(grid, z_top).cut(zlevel_path(grid, floor, levels, tool, 7.2, d_cut=d_cut, **kw))
     assert unchecked["max_depth"] > d_cut >= checked["max_depth"]

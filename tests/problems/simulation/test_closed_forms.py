@@ -4,6 +4,7 @@ passes on planes, and of a ball on convex and concave cylinders (circle intersec
 import numpy as np
 import pytest
 
+from evoplan.problems.toolpath.cutters import make_cutter
 from evoplan.problems.toolpath.clpath import CLPath
 from evoplan.problems.toolpath.simulation import analytic_grid, simulate, sweep_path
 from evoplan.problems.toolpath.simulation.kernel import MISS, ray_entry
@@ -40,10 +41,10 @@ def test_ray_entry_ball_torus_flat_vertical():
     for R, r in ((4.0, 4.0), (8.0, 3.0), (6.0, 0.0)):
         for rho in (0.0, 1.0, R - r + 0.5 * r, R - 1e-3):
             want = 0.0 if rho <= R - r else r - np.sqrt(r * r - (rho - R + r) ** 2)
-            got = ray_entry(rho, 0.0, -5.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0, R, r)
+            got = ray_entry(rho, 0.0, -5.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0, make_cutter(2 * R, r).kernel_params())
             assert got - 5.0 == pytest.approx(want, abs=1e-9)
         # a miss scores MISS plus how far outside the radius the ray passes
-        miss = ray_entry(R + 0.01, 0.0, -5.0, 0.0, 0.0, 1.0, 0, 0, 0, 0, 0, 1.0, R, r)
+        miss = ray_entry(R + 0.01, 0.0, -5.0, 0.0, 0.0, 1.0, 0, 0, 0, 0, 0, 1.0, make_cutter(2 * R, r).kernel_params())
         assert miss == pytest.approx(MISS + 0.01)
 
 
@@ -53,7 +54,7 @@ def test_ball_on_plane_cusp(s):
     g = _plane_grid()
     ys = 5.025 + s * np.arange(int(20 / s) + 1)
     tips, axes, sec = _passes(ys, lambda y: (y, 0.0), lambda y: (0, 0, 1))
-    res = sweep_path(CLPath(tips, axes, 2 * R, R, section=sec), g).values
+    res = sweep_path(CLPath(tips, axes, make_cutter(2 * R, R), section=sec), g).values
     cusp = res[_row(g, ys[2] + s / 2), 100:700]
     assert cusp.max() == pytest.approx(R - np.sqrt(R * R - s * s / 4), abs=2e-5)
     assert np.ptp(cusp) < 2e-5  # the same all along the pass
@@ -71,7 +72,7 @@ def test_flat_end_with_lead_on_plane_leaves_an_ellipse():
     g = _plane_grid()
     ys = 5.025 + s * np.arange(4)
     tips, axes, sec = _passes(ys, lambda y: (y, R * np.sin(lead)), lambda y: a, one_way=True)
-    res = sweep_path(CLPath(tips, axes, 2 * R, 0.0, section=sec), g).values
+    res = sweep_path(CLPath(tips, axes, make_cutter(2 * R, 0.0), section=sec), g).values
     for frac in (0.5, 0.3):
         y = ys[1] + frac * s
         i = _row(g, np.round((y - g.y0) / H) * H + g.y0)
@@ -86,7 +87,7 @@ def test_torus_on_plane_cusp():
     g = _plane_grid()
     ys = 5.025 + s * np.arange(3)
     tips, axes, sec = _passes(ys, lambda y: (y, 0.0), lambda y: (0, 0, 1))
-    res = sweep_path(CLPath(tips, axes, 2 * R, r, section=sec), g).values
+    res = sweep_path(CLPath(tips, axes, make_cutter(2 * R, r), section=sec), g).values
     want = r - np.sqrt(r * r - (s / 2 - (R - r)) ** 2)
     assert res[_row(g, ys[0] + s / 2), 100:700].max() == pytest.approx(want, abs=2e-5)
     # within the flat bottom's width nothing is left
@@ -116,7 +117,7 @@ def test_ball_on_cylinder_cusp(convex):
     ys = [rho * np.sin(p) for p in phis]
     by_y = dict(zip(ys, phis))
     tips, axes, sec = _passes(ys, lambda y: tip(by_y[y]), lambda y: (0, 0, 1), x0=-6, x1=46)
-    res = sweep_path(CLPath(tips, axes, 2 * R, R, section=sec), g).values
+    res = sweep_path(CLPath(tips, axes, make_cutter(2 * R, R), section=sec), g).values
     # cusp: the intersection of the two ball spheres on the bisecting normal
     disc = np.sqrt(R * R - (D * np.sin(dphi / 2)) ** 2)
     if convex:
@@ -132,7 +133,7 @@ def test_metrics_of_a_plane_cut():
     g = _plane_grid()
     ys = 5.025 + s * np.arange(11)
     tips, axes, sec = _passes(ys, lambda y: (y, 0.0), lambda y: (0, 0, 1))
-    sim = simulate(CLPath(tips, axes, 2 * R, R, section=sec), g, allowance=0.5)
+    sim = simulate(CLPath(tips, axes, make_cutter(2 * R, R), section=sec), g, allowance=0.5)
     m = sim.metrics
     assert m["gouge_max_mm"] < 1e-6 and m["gouge_area_mm2"] == 0
     # beside the outer passes the ball's side rises above the allowance a at a lateral
@@ -161,7 +162,7 @@ def test_vertical_rays_measure_the_same_cusp_stretched_by_the_slope():
         return (c - R * n)[1:]
 
     tips, axes, sec = _passes(ys, tip, lambda y: tuple(n))
-    path = CLPath(tips, axes, 2 * R, R, section=sec)
+    path = CLPath(tips, axes, make_cutter(2 * R, R), section=sec)
     normal = sweep_path(path, g).values[:, 100:700]
     vertical = sweep_path(path, g, vertical=True).values[:, 100:700]
     band = (g.ys[:, None] > ys[1]) & (g.ys[:, None] < ys[-2]) & np.ones_like(normal, bool)

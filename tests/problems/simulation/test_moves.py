@@ -5,6 +5,7 @@ the entry along a move) on Fountas' part for a leaning torus, a ball and a flat 
 import numpy as np
 import pytest
 
+from evoplan.problems.toolpath.cutters import make_cutter
 from evoplan.problems.toolpath.clpath import CLPath
 from evoplan.problems.toolpath.problem import ToolpathProblem
 from evoplan.problems.toolpath.simulation import analytic_grid, design_grid, sweep_path
@@ -32,9 +33,9 @@ def test_entry_slope_is_the_derivative_along_the_move(R, r):
         d = np.r_[rng.normal(0, 0.2, 2), 1.0]
         d /= np.linalg.norm(d)
         s, e = rng.uniform(0.05, 0.95), 1e-6
-        f, slope, _ = _at(s, 0, 1, tip, ax, *p, *d, R, r, g)
-        fp = _at(s + e, 0, 1, tip, ax, *p, *d, R, r, g)[0]
-        fm = _at(s - e, 0, 1, tip, ax, *p, *d, R, r, g)[0]
+        f, slope, _ = _at(s, 0, 1, tip, ax, *p, *d, make_cutter(2 * R, r).kernel_params(), g)
+        fp = _at(s + e, 0, 1, tip, ax, *p, *d, make_cutter(2 * R, r).kernel_params(), g)[0]
+        fm = _at(s - e, 0, 1, tip, ax, *p, *d, make_cutter(2 * R, r).kernel_params(), g)[0]
         if max(f, fp, fm) > 0.5 * MISS:
             continue
         num = (fp - fm) / (2 * e)
@@ -69,7 +70,7 @@ def test_a_turning_axis_bends_the_entry_and_the_bound_allows_for_it():
     ang = np.radians(3.0) * np.arange(n) * (-1) ** np.arange(n)
     tips = np.c_[x, np.full(n, 10.0), np.zeros(n)]
     axes = np.c_[np.sin(ang), np.zeros(n), np.cos(ang)]
-    path = CLPath(tips, axes, 2 * R, r)
+    path = CLPath(tips, axes, make_cutter(2 * R, r))
     g = analytic_grid(lambda x, y: -0.3 + 0 * x, lambda x, y: (0 * x, 0 * x), (0, 48, 0, 20), 0.25)
     got = sweep_path(path, g).values
     ref = sweep_path(path, g, method="stamps", pose_step=0.02, tol=1e-4, n_slots=6).values
@@ -92,11 +93,11 @@ def test_span_bounds_never_clear_a_stretch_that_cuts(R, r):
         p = np.r_[rng.uniform(-R - 1, 7 + R, 2), rng.uniform(-1.0, 1.0)]
         d = np.r_[rng.normal(0, 0.15, 2), 1.0]
         d /= np.linalg.norm(d)
-        f = np.array([_at(si, 0, 1, tip, ax, *p, *d, R, r, g)[0] for si in s])
+        f = np.array([_at(si, 0, 1, tip, ax, *p, *d, make_cutter(2 * R, r).kernel_params(), g)[0] for si in s])
         T = f.min() + rng.uniform(-0.5, 0.5)  # a best entry found elsewhere
         whole = np.empty(6)
         _geo(0, 1, tip, ax, *p, *d, whole)
-        lo, hi = _geo_spans(0, 1, tip, ax, *p, T, R, r, whole, e)
+        lo, hi = _geo_spans(0, 1, tip, ax, *p, T, make_cutter(2 * R, r).kernel_params(), whole, e)
         cuts = s[f < T]
         if len(cuts):
             assert lo <= cuts.min() and cuts.max() <= hi
@@ -111,7 +112,7 @@ def test_a_rim_that_only_grazes_the_cell_mid_move_still_cuts():
     # shallower entry: the spans leave the middle of the move to search, whose ends miss
     R = 4.0
     tips = np.array([[0.0, 0.0, 0.0], [24.0, 0.0, 0.0], [0.0, 5.0, 0.5], [24.0, 5.0, 0.5]])
-    path = CLPath(tips, np.tile([0.0, 0.0, 1.0], (4, 1)), 2 * R, 0.0, section=np.array([0, 0, 1, 1]))
+    path = CLPath(tips, np.tile([0.0, 0.0, 1.0], (4, 1)), make_cutter(2 * R, 0.0), section=np.array([0, 0, 1, 1]))
     g = analytic_grid(lambda x, y: 0 * x, lambda x, y: (0 * x, 0 * x), (11.0, 13.0, 3.96, 4.0), 0.01)
     got = sweep_path(path, g).values
     assert g.inside.sum() >= 200

@@ -66,7 +66,7 @@ def test_sweep_matches_brute_force(params):
     rng = np.random.default_rng(0)
     iy, ix = np.nonzero(grid.inside)
     pick = rng.choice(len(iy), 12, replace=False)
-    R, r = path.radius, path.corner_radius
+    R, r = path.radius, path.cutter.corner_radius
     for k in pick:
         y, x = iy[k], ix[k]
         p = np.array([grid.x0 + x * grid.h, grid.y0 + y * grid.h, grid.z[y, x]])

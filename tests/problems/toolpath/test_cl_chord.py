@@ -4,6 +4,7 @@ the cut simulation no longer finds a gouge above it."""
 
 import numpy as np
 import pytest
+from evoplan.problems.toolpath.cutters import make_cutter
 from toolpath_analytic import GraphSurface
 
 from evoplan.problems.toolpath import ToolpathProblem
@@ -40,7 +41,7 @@ def _paths(d, r, tolerance=TOL, rounds=8):
                       feed_angle=float(np.degrees(ALPHA)))
     genes = {"tool": [0], "stepover": [100.0 * DELTA / d], "step": [2.0]}
     batch = planner.plan({k: np.asarray(v) for k, v in genes.items()})
-    raw = batch.cl_path(0, d, r)
+    raw = batch.cl_path(0, make_cutter(d, r))
     return raw, planner.cl_path(genes, chord_rounds=rounds), tools.cutter(0), batch.sec_d
 
 

@@ -4,6 +4,7 @@ criteria's undercut and the NC outputs (label, APT CUTTER/) go through the cutte
 import numpy as np
 import pytest
 
+from evoplan.problems.toolpath.cutters import make_cutter
 from evoplan.problems.toolpath.cutters import BallEndCutter, FlatEndCutter, ToroidalCutter
 from evoplan.problems.toolpath.export.apt_write import header
 from evoplan.problems.toolpath.export.toolpath import Tool
@@ -39,11 +40,11 @@ def test_only_a_sharp_rim_reports_an_undercut():
 
 
 def test_nc_outputs_take_the_shape_from_the_cutter():
-    assert [Tool(1, 8, 0).label(), Tool(1, 12, 6).label(), Tool(1, 16, 3).label()] == [
+    assert [Tool(1, make_cutter(8, 0)).label(), Tool(1, make_cutter(12, 6)).label(), Tool(1, make_cutter(16, 3)).label()] == [
         "flat D8", "ball D12", "toroidal D16 r3"]
-    assert "CUTTER/16.0000,3.0000" in header(diameter=16, corner_radius=3)
+    assert "CUTTER/16.0000,3.0000" in header(cutter=make_cutter(16, 3))
     with pytest.raises(ValueError, match=r"tool.corner_radius: must be in \[0, D/2 = 4\]"):
-        header(diameter=8, corner_radius=5)
+        header(cutter=make_cutter(8, 5, key="tool"))
 
 
 @pytest.mark.parametrize("r", [0.0, 1.0, 3.175])
@@ -86,7 +87,7 @@ def test_the_centre_is_the_corner_arcs_centre_and_centre_points_read_back_as_tip
     axis /= np.linalg.norm(axis, axis=1, keepdims=True)
 
     class Apt:  # what export.apt_read.read_apt gives, reduced to what CLPath reads
-        diameter, corner_radius, tip_is_centre = d, r, True
+        cutter, tip_is_centre = c, True
         rapid = np.zeros(5, bool)
         feed = np.full(5, 800.0)
         section = np.zeros(5, int)

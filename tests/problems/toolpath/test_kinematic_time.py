@@ -5,6 +5,7 @@ import math
 import numpy as np
 import pytest
 
+from evoplan.problems.toolpath.cutters import make_cutter
 from evoplan.problems.toolpath.criteria.kinematic_time import Dynamics, chain_time, parse_dynamics
 
 DYN = Dynamics()                  # jerk 40 m/s^3, accel 6 m/s^2, feed 5 m/min
@@ -117,7 +118,7 @@ def test_an_nc_operation_pays_its_rapids_and_plunges_at_their_rates():
     from evoplan.problems.toolpath.export.toolpath import Tool, Toolpath
 
     # rapid down 40 mm, plunge 10 mm at 600 mm/min, cut 200 mm at 5000, rapid up 50 mm
-    tp = Toolpath("op", Tool(1, 10), [[0, 0, 50], [0, 0, 10], [0, 0, 0], [200, 0, 0], [200, 0, 50]],
+    tp = Toolpath("op", Tool(1, make_cutter(10, 0)), [[0, 0, 50], [0, 0, 10], [0, 0, 0], [200, 0, 0], [200, 0, 50]],
                   np.tile([0, 0, 1.0], (5, 1)), [1, 1, 0, 0, 1], [0, 0, 1, 0, 0], [-1, -1, 0, 0, -1],
                   feed=5000.0, plunge_feed=600.0)
     R, P = 10000 / 60, 600 / 60

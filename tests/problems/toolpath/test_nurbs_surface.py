@@ -7,6 +7,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from evoplan.problems.toolpath.cutters import make_cutter
 from evoplan.problems.toolpath.geometry.bspline import BSplineSurface
 from evoplan.problems.toolpath.geometry.nurbs import NURBSSurface
 from evoplan.problems.toolpath.geometry.spec import parse_surface
@@ -161,7 +162,7 @@ def test_a_ball_swept_over_the_nurbs_cylinder_leaves_the_circle_intersection_cus
     tips = np.array([(x, d * np.sin(p), d * np.cos(p) - r) for p in phis for x in xs])
     sec = np.repeat(np.arange(len(phis)), len(xs))
     axes = np.tile((0.0, 0.0, 1.0), (len(tips), 1))
-    res = sweep_path(CLPath(tips, axes, 2 * r, r, section=sec), g).values
+    res = sweep_path(CLPath(tips, axes, make_cutter(2 * r, r), section=sec), g).values
     want = d * np.cos(dphi / 2) - np.sqrt(r * r - (d * np.sin(dphi / 2)) ** 2) - rho
     got = res[i, 60:340]
     assert got.max() == pytest.approx(want, rel=2e-3, abs=2e-5)

@@ -101,7 +101,7 @@ def test_zoned_plan_points_lie_on_their_planes_and_closed_form_tips(halves, d, r
     side = np.where(cc[:, 0] < 50, 1.0, -1.0)
     expect = _plane_tip_z(path.tip[:, 0], path.tip[:, 1], side, planner.tools.cutter(0))
     assert np.allclose(path.tip[off_ridge, 2], expect[off_ridge], atol=1e-9)  # tangent to its flank
-    assert path.diameter == d and path.corner_radius == r
+    assert path.cutter.diameter == d and path.cutter.corner_radius == r
     assert np.allclose(path.axis, [0, 0, 1])
 
 

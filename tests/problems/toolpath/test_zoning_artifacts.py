@@ -9,6 +9,7 @@ import json
 import numpy as np
 import pytest
 
+from evoplan.problems.toolpath.cutters import make_cutter
 from evoplan.cli import main
 from evoplan.problems.toolpath.clpath import CLPath
 from evoplan.problems.toolpath.export.apt_read import read_apt
@@ -78,7 +79,7 @@ def test_the_apt_file_reads_back_as_the_plan_with_a_section_per_zone_pass(zoned_
     assert zones == {str(z) for z in np.unique(path.zone)} and len(zones) >= 3
     # the cutter is the best tool's; sections are joined by rapids only: the feed moves are the
     # plan's own plus one 1 mm plunge per section
-    assert (apt.diameter, apt.corner_radius) == (path.diameter, path.corner_radius)
+    assert (apt.cutter.diameter, apt.cutter.corner_radius) == (path.cutter.diameter, path.cutter.corner_radius)
     assert not apt.multax
     back = CLPath.from_apt(apt)
     assert back.feed_length() == pytest.approx(path.feed_length() + 1.0 * len(starts), abs=1e-2)
@@ -99,7 +100,7 @@ def test_simulate_run_cuts_the_same_plan_as_the_apt_file(zoned_run, tmp_path):
 
 def test_sections_are_left_up_to_the_safe_height_and_entered_from_above():
     tip = np.array([[0, 0, 5], [4, 0, 5], [0, 3, 2], [4, 3, 2.5]], float)
-    tp = Toolpath.from_sections("f", Tool(3, 6, 1), tip, np.tile([0.0, 0, 1], (4, 1)), [0, 0, 1, 1], feed=800,
+    tp = Toolpath.from_sections("f", Tool(3, make_cutter(6, 1)), tip, np.tile([0.0, 0, 1], (4, 1)), [0, 0, 1, 1], feed=800,
                                 clearance=10, gap=1, section_names={1: "ZONE 1 PASS 4"})
     # approach, down, plunge, cut, retract | traverse, down, plunge, cut, retract
     assert np.allclose(tp.tip, [[0, 0, 15], [0, 0, 6], [0, 0, 5], [4, 0, 5], [4, 0, 15],

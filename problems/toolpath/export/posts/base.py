@@ -125,8 +125,8 @@ class Post:
         real = kin.tool_axis(ang[:, 0], ang[:, 1])  # differs from tp.axis where the table holds near the pole
         self.axis_error = float(np.degrees(np.arccos(np.clip(np.einsum("ij,ij->i", real, tp.axis), -1, 1))).max())
         tp_tip = tp.tip
-        if abs(tp.tool.corner_radius - 0.5 * tp.tool.diameter) < 1e-9:  # a ball: keep its centre
-            tp_tip = tp.tip + tp.tool.corner_radius * (tp.axis - real)
+        if tp.tool.cutter.spherical:  # a ball: keep its centre
+            tp_tip = tp.tip + tp.tool.cutter.centre_height * (tp.axis - real)
         tp = copy.copy(tp)
         tp.tip = tp_tip
         tip, angles, rapid, f = [], [], [], []
