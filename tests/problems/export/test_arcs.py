@@ -7,6 +7,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from evoplan.problems.toolpath.cutters import make_cutter
 from evoplan.problems.toolpath.export.arcs import PLANES, arc_points, fit_blocks, segment_distance
 from evoplan.problems.toolpath.export.gcode_read import read_gcode
 from evoplan.problems.toolpath.export.posts import POSTS, Machine
@@ -103,7 +104,7 @@ def _toolpath():
     plunge = np.zeros(m, bool)
     plunge[[1, len(xy) + 3]] = True
     section = np.r_[-1, np.zeros(len(xy), int), -1, -1, np.ones(len(xz), int), -1]
-    return Toolpath("rough", Tool(1, 12, 0, 6000), tip, np.tile([0, 0, 1.0], (m, 1)), rapid, plunge, section,
+    return Toolpath("rough", Tool(1, make_cutter(12, 0), 6000), tip, np.tile([0, 0, 1.0], (m, 1)), rapid, plunge, section,
                     feed=800, plunge_feed=250)
 
 
@@ -117,14 +118,14 @@ def test_iso_arcs_read_back_by_the_post_and_the_gcode_reader(tmp_path):
     assert len(text) < 0.3 * len(plain)
     cut = ~tp.rapid
     (tmp_path / "p.nc").write_text(text)
-    for got in (post.read(text).tip, read_gcode(tmp_path / "p.nc", 12).tip):
+    for got in (post.read(text).tip, read_gcode(tmp_path / "p.nc", make_cutter(12, 0)).tip):
         got = got[np.isfinite(got).all(axis=1)]  # the header's G43 Z move has no X Y yet
         # every cutting point of the toolpath within TOL of the program read back, and back
         assert _polyline_distance(tp.tip[cut], got).max() <= TOL + 2e-3
         inside = got[(got[:, 2] < 5) & (got[:, 1] > -39)]  # the G17 curve's points as read
         assert _polyline_distance(inside, tp.tip[1:len(_curve("17")) + 1]).max() <= TOL + 1e-4
     # the feed words survive: cutting at 800, plunges at 250
-    g = read_gcode(tmp_path / "p.nc", 12)
+    g = read_gcode(tmp_path / "p.nc", make_cutter(12, 0))
     assert set(np.unique(g.feed[~g.rapid])) == {250.0, 800.0}
 
 
