@@ -124,7 +124,7 @@ def test_morphing_cuts_only_where_material_remains(case):
     from evoplan.problems.toolpath.roughing.remaining import morph_remaining_path
 
     grid, zs, floor, z_top, n = case
-    tool = Tool(1, 2 * R, 0.0, 6000)
+    tool = Tool(1, make_cutter(2 * R, 0.0), 6000)
     layers = morph_layers(floor, z_top, n)
     kw = dict(z_top=z_top, safe_z=z_top + 10, feed=800, plunge_feed=300, tolerance=0.01)
     full = StockZMap(grid, z_top).cut(morph_path(grid, layers, tool, 6.0, **kw))
