@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..geometry.footprint import footprint_of
 from .surface_grid import uv_at_xy
 
 __all__ = ["group_argmax", "rim_candidates", "edge_candidates"]
@@ -49,6 +50,7 @@ def rim_candidates(cutter, surface, grid, c, g_rim, iterations=60):
     p = (c[:, None, :] + big * np.stack([np.cos(th), np.sin(th)], 1)[None]).reshape(-1, 2)
     near = grid.tree.query(p)[1]
     uv, ok = uv_at_xy(surface, p, np.stack([grid.u[near], grid.v[near]], 1))
+    ok &= footprint_of(surface).contains(uv[:, 0], uv[:, 1])  # a trimmed face: not in a hole
     z = np.where(ok, surface.jet(uv[:, 0], uv[:, 1], order=0).p[:, 2], -np.inf).reshape(k, m)
     j = np.argmax(z, axis=1)
     rows = np.arange(k)

@@ -3,7 +3,9 @@
 The drop-cutter (``drop.py``) needs, for a tool at XY, the surface points within its radius
 (a KD-tree over the XY of a dense parameter grid, boundary rows included so that the patch
 edges are sampled) and the patch boundary as XY segments (where the cutter's rim crosses
-an edge). Grids are cached per surface and spacing (weakly: they go with the surface).
+an edge). Grids are cached per surface and spacing (weakly: they go with the surface). On
+a trimmed face (``surface.footprint``) only the points inside its loops are kept and the
+boundary segments run along the loops, holes included: a tool over a hole drops past it.
 
 ``uv_at_xy`` inverts a surface that is a graph over XY (z = f(x, y), det J != 0): Newton's
 method on xy(u, v) = target, clipped to the unit square; points outside the footprint end
@@ -17,6 +19,8 @@ from dataclasses import dataclass
 
 import numpy as np
 from scipy.spatial import cKDTree
+
+from ..geometry.footprint import footprint_of
 
 __all__ = ["SurfaceGrid", "surface_grid", "uv_at_xy"]
 
@@ -66,14 +70,25 @@ def surface_grid(surface, spacing: float = 0.25, max_per_axis: int = 2000) -> Su
     step = max(np.linalg.norm(np.diff(grid_xy, axis=0), axis=-1).max(),
                np.linalg.norm(np.diff(grid_xy, axis=1), axis=-1).max())
     uv = np.stack([uu, vv], -1)
-    ends_uv, ends_xy = [], []
-    for sl in ((0, slice(None)), (-1, slice(None)), (slice(None), 0), (slice(None), -1)):
-        e_uv, e_xy = uv[sl], grid_xy[sl]
-        ends_uv.append(np.stack([e_uv[:-1], e_uv[1:]], 1))
-        ends_xy.append(np.stack([e_xy[:-1], e_xy[1:]], 1))
-    seg_uv, seg_xy = np.concatenate(ends_uv), np.concatenate(ends_xy)
+    uu, vv, z = uu.ravel(), vv.ravel(), p[:, 2].copy()
+    fp = footprint_of(surface)
+    if fp.whole:
+        ends_uv, ends_xy = [], []
+        for sl in ((0, slice(None)), (-1, slice(None)), (slice(None), 0), (slice(None), -1)):
+            e_uv, e_xy = uv[sl], grid_xy[sl]
+            ends_uv.append(np.stack([e_uv[:-1], e_uv[1:]], 1))
+            ends_xy.append(np.stack([e_xy[:-1], e_xy[1:]], 1))
+        seg_uv, seg_xy = np.concatenate(ends_uv), np.concatenate(ends_xy)
+    else:  # a trimmed face: its points inside the loops, its edges along them (holes too)
+        keep = fp.contains(uu, vv)
+        uu, vv, z, xy = uu[keep], vv[keep], z[keep], np.ascontiguousarray(xy[keep])
+        du = 1.0 / max(nu, nv)
+        loops = fp.dense(du)
+        seg_uv = np.concatenate([np.stack([lp, np.roll(lp, -1, 0)], 1) for lp in loops])
+        flat = seg_uv.reshape(-1, 2)
+        seg_xy = surface.jet(flat[:, 0], flat[:, 1], order=0).p[:, :2].reshape(-1, 2, 2)
     half = 0.5 * np.linalg.norm(seg_xy[:, 1] - seg_xy[:, 0], axis=-1)
-    grid = SurfaceGrid(uu.ravel(), vv.ravel(), xy, p[:, 2].copy(), cKDTree(xy), seg_uv, seg_xy,
+    grid = SurfaceGrid(uu, vv, xy, z, cKDTree(xy), seg_uv, seg_xy,
                        cKDTree(seg_xy.mean(axis=1)), float(half.max()), float(step))
     per[key] = grid
     return grid

@@ -1,4 +1,4 @@
-"""Tensor-product B-spline surfaces, evaluated with ``scipy.interpolate.NdBSpline``.
+"""Tensor-product B-spline surfaces, evaluated by ``spline_kernel.spline_jet`` (numba).
 
 S(u, v) = sum_i sum_j N_i^p(u) N_j^q(v) P_ij over the knot vectors (Piegl & Tiller, Eq. 3.11).
 The parameters exposed to the engine are rescaled to [0, 1]^2 (derivatives are scaled
@@ -8,8 +8,8 @@ accordingly); the knot vectors may span any interval.
 from __future__ import annotations
 
 import numpy as np
-from scipy.interpolate import NdBSpline
 
+from .spline_kernel import spline_jet
 from .surface import Jet, Surface
 
 __all__ = ["BSplineSurface", "clamped_uniform_knots"]
@@ -39,7 +39,7 @@ class BSplineSurface(Surface):
         self.knots = (tu, tv)
         self._lo = np.array([tu[ku], tv[kv]])
         self._span = np.array([tu[-ku - 1] - tu[ku], tv[-kv - 1] - tv[kv]])
-        self._spline = NdBSpline((tu, tv), p, (ku, kv))
+        self._poles = np.ascontiguousarray(p, dtype=float)
         self.name = name
         self._orient(normal_sign)
 
@@ -48,11 +48,9 @@ class BSplineSurface(Surface):
         xi = np.stack([np.asarray(u, float), np.asarray(v, float)], axis=-1)
         xi = self._lo + np.clip(xi, 0.0, 1.0) * self._span
         su, sv = self._span
-        f = self._spline
-        out = [f(xi)]
-        if order >= 1:
-            out += [f(xi, nu=(1, 0)) * su, f(xi, nu=(0, 1)) * sv]
-        if order >= 2:
-            out += [f(xi, nu=(2, 0)) * su * su, f(xi, nu=(1, 1)) * su * sv,
-                    f(xi, nu=(0, 2)) * sv * sv]
-        return Jet(*out)
+        order = min(int(order), 2)
+        jet = spline_jet(self._poles, self.knots[0], self.knots[1], self.degree[0],
+                         self.degree[1], np.ascontiguousarray(xi[..., 0].ravel()),
+                         np.ascontiguousarray(xi[..., 1].ravel()), order)
+        scale = (1.0, su, sv, su * su, su * sv, sv * sv)
+        return Jet(*(jet[:, i] * scale[i] for i in range(jet.shape[1])))

@@ -2,7 +2,7 @@
 
 S(u, v) = sum_ij N_i^p(u) N_j^q(v) w_ij P_ij / sum_ij N_i^p(u) N_j^q(v) w_ij
 (Piegl & Tiller, The NURBS Book, Eq. 4.15). The surface is evaluated as the non-rational
-B-spline A(u, v) = sum N N (w P, w) in homogeneous coordinates (one ``NdBSpline`` with four
+B-spline A(u, v) = sum N N (w P, w) in homogeneous coordinates (one B-spline with four
 values per pole), then projected. Its derivatives follow from differentiating A = w S by
 the product rule and solving for the derivative of S (the quotient rule, written for curves
 as Eq. 4.8 and for surfaces as Eq. 4.20 in that book):

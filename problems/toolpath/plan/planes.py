@@ -10,8 +10,10 @@ along each plane, the inverse map (d, tau) -> (u, v) on a grid and the cumulativ
 along the planes, so that a batch of plans locates its points with one bilinear seed and a
 Newton step, with no Python loop per plan, pass or point.
 
-Assumption: the surface is a graph over its XY footprint (no vertical walls or overhangs)
-and each plane meets the footprint in one interval (e.g. a convex footprint).
+Assumption: the surface is a graph over its XY footprint (no vertical walls or overhangs).
+A plane may meet a trimmed or non-convex footprint several times: tau then runs from its
+first entry to its last exit, and :meth:`PassGeometry.material` gives the stretches between
+that are material (each one a section of the plan).
 """
 
 from __future__ import annotations
@@ -19,6 +21,8 @@ from __future__ import annotations
 import numpy as np
 from scipy.spatial import cKDTree
 
+from ..geometry.crossings import edges_of, line_intervals
+from ..geometry.footprint import footprint_of
 from ..geometry.surface import Surface
 
 __all__ = ["PassGeometry"]
@@ -37,12 +41,19 @@ class PassGeometry:
         al = np.radians(feed_angle)
         self.f = np.array([np.cos(al), np.sin(al)])
         self.c = np.array([-np.sin(al), np.cos(al)])
-        t = np.linspace(0.0, 1.0, n_boundary)
-        one, zero = np.ones_like(t), np.zeros_like(t)
-        bu = np.concatenate([t, one, 1 - t, zero])
-        bv = np.concatenate([zero, t, one, 1 - t])
-        bp = surface.jet(bu, bv, order=0).p
-        bd, bs = bp[:, :2] @ self.c, bp[:, :2] @ self.f
+        fp = footprint_of(surface)
+        if fp.whole:
+            t = np.linspace(0.0, 1.0, n_boundary)
+            one, zero = np.ones_like(t), np.zeros_like(t)
+            bu = np.concatenate([t, one, 1 - t, zero])
+            bv = np.concatenate([zero, t, one, 1 - t])
+            loops = [surface.jet(bu, bv, order=0).p[:, :2]]
+        else:  # a trimmed footprint: its outer loop and holes
+            loops = fp.xy_loops(surface, 1.0 / n_boundary)
+        #: the footprint's loops as (s, d) (None: the whole square, one stretch a plane)
+        self.loops_sd = None if fp.whole else [lp @ np.stack([self.f, self.c], 1) for lp in loops]
+        (a, b) = edges_of(loops)
+        bd, bs = a @ self.c, a @ self.f
         self.d_min, self.d_max = float(bd.min()), float(bd.max())
         self.width = self.d_max - self.d_min
         if not self.width > 0:
@@ -51,8 +62,8 @@ class PassGeometry:
         self.d_grid = np.linspace(self.d_min + eps, self.d_max - eps, n_d)
         self.tau_grid = np.linspace(0.0, 1.0, n_tau)
         # extent of each plane in the footprint: crossings of the closed boundary polyline
-        da, db = bd, np.roll(bd, -1)
-        sa, sb = bs, np.roll(bs, -1)
+        da, db = bd, b @ self.c
+        sa, sb = bs, b @ self.f
         dj = self.d_grid[:, None]
         hit = (da - dj) * (db - dj) <= 0
         with np.errstate(divide="ignore", invalid="ignore"):
@@ -112,6 +123,24 @@ class PassGeometry:
         lo = self.s_lo[j0] * (1 - fj) + self.s_lo[j0 + 1] * fj
         hi = self.s_hi[j0] * (1 - fj) + self.s_hi[j0 + 1] * fj
         return lo, hi
+
+    def material(self, d):
+        """The stretches of planes d (n,) inside the footprint: (plane index, tau_a, tau_b,
+        first, last) in order along each plane (``first`` / ``last``: the plane's first and
+        last stretch). The whole square gives every plane [0, 1]; a trimmed footprint the
+        crossings of the plane with its loops (``crossings.line_intervals``), exact, in the
+        tau of :meth:`pass_extent` (so a stretch may reach a little past [0, 1], where the
+        extent table's linear interpolation falls short of the true boundary)."""
+        d = np.asarray(d, float)
+        if self.loops_sd is None:
+            one = np.ones(len(d), bool)
+            return np.arange(len(d)), np.zeros(len(d)), np.ones(len(d)), one, one
+        eps = 1e-9 * self.width  # a plane on the extreme offset grazes the boundary
+        q = np.clip(d, self.d_min + eps, self.d_max - eps)
+        line, sa, sb, first, last = line_intervals(self.loops_sd, q)
+        lo, hi = self.pass_extent(d[line])
+        span = np.where(hi > lo, hi - lo, 1.0)
+        return line, (sa - lo) / span, (sb - lo) / span, first, last
 
     def arc_rows(self, d):
         """Cumulative arc length along planes d at tau_grid: (n, n_tau)."""

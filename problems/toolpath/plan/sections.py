@@ -20,6 +20,14 @@ obliquity to the planes requires and no more (a plane cut only where it crosses 
 would leave a wedge between two planes that end at different places along an oblique
 border). Membership is sampled along each plane at most ``resolution`` mm apart.
 
+A plane may cross a trimmed or non-convex footprint several times (a hole, a notch): each
+stretch between an entry and the next exit is a section of its own (``planes.material``),
+so no CC point lies off the part; a zoned plane's stretches are cut down to them. Sections
+of one plane are machined in order along it (reversed on a reversed plane) and linked as
+any two sections are. ``edge_lo`` / ``edge_hi`` say which ends lie on the footprint's edge
+(the travel runs on past them, ``overrun.py``) and how far along an oblique edge
+(``run_lo`` / ``run_hi``, :func:`stretch_runs`).
+
 Each section also carries the gap its points' scallop is measured in: the spacing to the
 next plane (``side`` +1), or to the previous one for the zone's last plane (-1), or none
 for a zone of one plane (0).
@@ -34,7 +42,7 @@ import numpy as np
 from ..geometry.rows import ranges
 from .planes import PassGeometry
 
-__all__ = ["Sections", "plane_offsets", "full_plane_sections", "zone_sections"]
+__all__ = ["Sections", "plane_offsets", "stretch_runs", "full_plane_sections", "zone_sections"]
 
 
 @dataclass
@@ -42,8 +50,9 @@ class Sections:
     """Sections of one zone geometry (one feed direction ``alpha``, radians) for several
     individuals: per section its individual ``ind``, ``zone``, plane index ``pass_k``,
     offset ``d``, stretch [``ta``, ``tb``], maximum step ``step``, gap ``spacing``,
-    ``side`` and the footprint's extent past its ends ``run_lo`` / ``run_hi``
-    (:func:`edge_runs`)."""
+    ``side``, the footprint's extent past its ends ``run_lo`` / ``run_hi``
+    (:func:`edge_runs`) and whether each end lies on the footprint's edge (``edge_lo``,
+    ``edge_hi``)."""
 
     geom: PassGeometry
     alpha: float
@@ -58,6 +67,8 @@ class Sections:
     side: np.ndarray
     run_lo: np.ndarray
     run_hi: np.ndarray
+    edge_lo: np.ndarray
+    edge_hi: np.ndarray
 
 
 def plane_offsets(lo, hi, delta):
@@ -106,17 +117,52 @@ def edge_runs(geom: PassGeometry, d, up, down, samples: int = 4):
     return run_lo, run_hi
 
 
+def stretch_runs(geom: PassGeometry, d, up, down, samples: int = 4):
+    """The footprint's stretches of planes d (``planes.material``) and how far the footprint
+    runs on past each stretch's ends within its plane's band: (plane, tau_a, tau_b, run_lo,
+    run_hi), runs in mm. On the whole square a plane is one stretch and the runs are
+    :func:`edge_runs`; on a trimmed footprint a neighbouring plane's stretch counts only where
+    it overlaps this one along the feed (a notch or a hole beyond is not the wedge of this
+    edge: the outer extents would run the tool on across it)."""
+    line, ta, tb, _, _ = geom.material(d)
+    if geom.loops_sd is None:
+        run_lo, run_hi = edge_runs(geom, d, up, down, samples)
+        return line, ta, tb, run_lo[line], run_hi[line]
+    sa, sb = _feed(geom, d[line], ta, tb)
+    run_lo, run_hi = np.zeros(len(line)), np.zeros(len(line))
+    for f in np.arange(1, samples + 1) / samples:
+        for off in (f * up, -f * down):
+            d2 = d + off
+            n_line, na, nb, _, _ = geom.material(d2)
+            na, nb = _feed(geom, d2[n_line], na, nb)
+            count = np.bincount(n_line, minlength=len(d))
+            r, j = ranges(count[line])  # every (stretch, neighbour's stretch) pair
+            m = np.cumsum(count)[line[r]] - count[line[r]] + j
+            over = (na[m] < sb[r]) & (nb[m] > sa[r])
+            np.maximum.at(run_lo, r[over], sa[r[over]] - na[m[over]])
+            np.maximum.at(run_hi, r[over], nb[m[over]] - sb[r[over]])
+    return line, ta, tb, run_lo, run_hi
+
+
+def _feed(geom, d, ta, tb):
+    """Feed coordinates (mm) of the stretch ends tau_a, tau_b of planes d."""
+    lo, hi = geom.pass_extent(d)
+    return lo + ta * (hi - lo), lo + tb * (hi - lo)
+
+
 def full_plane_sections(geom: PassGeometry, rows, delta, step) -> Sections:
-    """Single zone: every plane across the whole footprint (``rows``: the individuals)."""
+    """Single zone: every plane across the whole footprint (``rows``: the individuals), a
+    plane that crosses a trimmed footprint several times in as many sections."""
     rows = np.asarray(rows)
     n = len(rows)
     owner, k, d, gap, side = plane_offsets(np.full(n, geom.d_min), np.full(n, geom.d_max),
                                            delta)
-    one = np.ones(len(d))
-    run_lo, run_hi = edge_runs(geom, d, *_band(k, gap, side))
-    return Sections(geom, float(np.arctan2(geom.f[1], geom.f[0])), rows[owner],
-                    np.zeros(len(d), np.int64), k, d, 0 * one, one,
-                    np.asarray(step, float)[owner], gap, side, run_lo, run_hi)
+    p, ta, tb, run_lo, run_hi = stretch_runs(geom, d, *_band(k, gap, side))
+    edge = np.ones(len(p), bool)
+    return Sections(geom, float(np.arctan2(geom.f[1], geom.f[0])), rows[owner[p]],
+                    np.zeros(len(p), np.int64), k[p], d[p], ta, tb,
+                    np.asarray(step, float)[owner[p]], gap[p], side[p], run_lo, run_hi,
+                    edge, edge)
 
 
 def zone_sections(geom: PassGeometry, layout, z: int, rows, delta, step, spacing: str,
@@ -128,24 +174,23 @@ def zone_sections(geom: PassGeometry, layout, z: int, rows, delta, step, spacing
         lo, hi = layout.extent[z]
         owner, k, d, gap, side = plane_offsets(np.full(len(rows), lo), np.full(len(rows), hi),
                                                delta)
-        p, ta, tb = _stretches(geom, layout, z, d, gap, side, k, resolution, sub_planes)
-        run_lo, run_hi = edge_runs(geom, d, *_band(k, gap, side))
+        p, ta, tb, e_lo, e_hi, run_lo, run_hi = _stretches(geom, layout, z, d, gap, side, k,
+                                                           resolution, sub_planes)
     else:  # the same planes for every individual: one search, repeated
         planes = layout.planes[z]
         kk = np.arange(len(planes))
         d1 = planes
         gap1, side1 = _gaps(kk, d1, np.full(len(kk), len(planes) - 1))
-        p1, ta1, tb1 = _stretches(geom, layout, z, d1, gap1, side1, kk, resolution, sub_planes)
-        lo1, hi1 = edge_runs(geom, d1, *_band(kk, gap1, side1))
+        p1, *per = _stretches(geom, layout, z, d1, gap1, side1, kk, resolution, sub_planes)
         owner, k = ranges(np.full(len(rows), len(planes)))
-        d, gap, side, run_lo, run_hi = d1[k], gap1[k], side1[k], lo1[k], hi1[k]
+        d, gap, side = d1[k], gap1[k], side1[k]
         rep, _ = ranges(np.full(len(rows), len(p1)))
         p = np.tile(p1, len(rows)) + rep * len(planes)
-        ta, tb = np.tile(ta1, len(rows)), np.tile(tb1, len(rows))
+        ta, tb, e_lo, e_hi, run_lo, run_hi = (np.tile(a, len(rows)) for a in per)
     alpha = float(np.arctan2(geom.f[1], geom.f[0]))
     return Sections(geom, alpha, rows[owner[p]], np.full(len(p), z, np.int64), k[p], d[p],
                     ta, tb, np.asarray(step, float)[owner[p]], gap[p], side[p],
-                    run_lo[p], run_hi[p])
+                    run_lo, run_hi, e_lo, e_hi)
 
 
 def _stretches(geom, layout, z, d, gap, side, k, resolution, sub_planes):
@@ -181,4 +226,22 @@ def _stretches(geom, layout, z, d, gap, side, k, resolution, sub_planes):
     half = 0.5 / (nt - 1)
     ta = np.clip(tau[starts[:, 1]] - half, 0.0, 1.0)
     tb = np.clip(tau[ends[:, 1]] + half, 0.0, 1.0)
-    return starts[:, 0], ta, tb
+    return _on_material(geom, d, starts[:, 0], ta, tb, up, down)
+
+
+def _on_material(geom, d, plane, ta, tb, up, down):
+    """The runs [ta, tb] of planes ``d[plane]`` cut down to the footprint's stretches of
+    their planes (:func:`stretch_runs`): (plane, ta, tb, edge_lo, edge_hi, run_lo, run_hi),
+    an end on the edge where the footprint's stretch ends it (within 1e-9), with that
+    stretch's run-on there (0 at an end inside the part)."""
+    m_line, m_a, m_b, m_run_lo, m_run_hi = stretch_runs(geom, d, up, down)
+    count = np.bincount(m_line, minlength=len(d))
+    m_start = np.cumsum(count) - count
+    run, j = ranges(count[plane])  # every (run, stretch of its plane) pair
+    m = m_start[plane[run]] + j
+    lo, hi = np.maximum(ta[run], m_a[m]), np.minimum(tb[run], m_b[m])
+    keep = hi > lo
+    run, m, lo, hi = run[keep], m[keep], lo[keep], hi[keep]
+    e_lo, e_hi = m_a[m] >= ta[run] - 1e-9, m_b[m] <= tb[run] + 1e-9
+    return (plane[run], lo, hi, e_lo, e_hi, np.where(e_lo, m_run_lo[m], 0.0),
+            np.where(e_hi, m_run_hi[m], 0.0))

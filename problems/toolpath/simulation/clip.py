@@ -37,6 +37,8 @@ def _boundary_loops_uv(surface, n: int) -> list[np.ndarray]:
     fp = getattr(surface, "footprint", None)
     loops = getattr(fp, "loops", None) if fp is not None else None
     if loops:  # densified: a straight (u, v) edge is curved in XY
+        if hasattr(fp, "dense"):  # as the footprint knows it (a CAD face's: as sampled)
+            return fp.dense(1.0 / n)
         return [_densify(np.asarray(lp, float), 1.0 / n) for lp in loops]
     t = np.linspace(0.0, 1.0, n, endpoint=False)
     one, zero = np.ones_like(t), np.zeros_like(t)

@@ -7,11 +7,13 @@ the tool side): the ray of that cell starts at the design point and climbs along
 
 For a parametric surface the cell centres (x, y) are mapped back to (u, v): a bilinear seed
 from a coarse inverse table, then Newton's method on (x(u, v), y(u, v)) = (x, y). A centre
-whose Newton solution leaves the unit square, or does not converge, is off the part. The
-surface must be a graph over XY (one point above each (x, y)); a fold is refused.
+whose Newton solution leaves the unit square, or does not converge, is off the part, and so
+is one outside a trimmed footprint's loops (in a hole). The surface must be a graph over XY
+(one point above each (x, y)); a fold is refused.
 
 A polynomial surface (Fountas' part, Bezier nets) runs that per cell in one numba loop
-(``design_poly.py``, about 45 ns a cell); any other surface in numpy batches of cells. A
+(``design_poly.py``, about 45 ns a cell), a B-spline or NURBS surface likewise
+(``design_spline.py``); any other surface in numpy batches of cells. A
 surface with a ``design_cells`` method gives its cells itself: a mesh surface
 (``geometry/mesh_surface.py``) puts the mesh's own triangles under the cell centres, so the
 simulation measures against the mesh, not against the smooth fit the planner uses.
@@ -25,9 +27,13 @@ import numpy as np
 from scipy.interpolate import RegularGridInterpolator
 from scipy.spatial import cKDTree
 
+from ..geometry.crossings import inside_grid
+from ..geometry.footprint import footprint_of
+from ..geometry.bspline import BSplineSurface
 from ..geometry.surface import Jet, PolynomialSurface, Surface, unit_normal
 from .clip import clipped_fractions, footprint_polygon
 from .design_poly import empty_plain, poly_cells
+from .design_spline import spline_cells
 
 __all__ = ["DesignGrid", "design_grid", "grid_bytes", "BYTES_PER_CELL"]
 
@@ -197,16 +203,41 @@ def _polynomial_cells(surface: PolynomialSurface, xs, ys, table):
     return z, normal, inside, U, V
 
 
+def _spline_cells(surface: BSplineSurface, xs, ys, table):
+    """The same for a B-spline or NURBS surface, one numba loop over the cells
+    (``design_spline.py``)."""
+    tx, ty, tu, tv = table
+    ny, nx = len(ys), len(xs)
+    z, inside = empty_plain((ny, nx)), empty_plain((ny, nx), bool)
+    normal, U, V = empty_plain((ny, nx, 3)), empty_plain((ny, nx)), empty_plain((ny, nx))
+    h = surface._poles
+    if h.shape[2] == 3:  # non-rational: weights 1
+        h = np.concatenate([h, np.ones(h.shape[:2] + (1,))], axis=2)
+    (lo_u, lo_v), (sp_u, sp_v) = surface._lo, surface._span
+    bad = spline_cells(np.ascontiguousarray(h), surface.knots[0], surface.knots[1],
+                       surface.degree[0], surface.degree[1], float(lo_u), float(sp_u),
+                       float(lo_v), float(sp_v), float(surface.normal_sign), xs, ys, tx, ty,
+                       np.ascontiguousarray(tu), np.ascontiguousarray(tv), 4, 1e-9,
+                       z, normal, inside, U, V)
+    if bad:
+        raise ValueError(_NOT_A_GRAPH)
+    return z, normal, inside, U, V
+
+
 def design_grid(surface: Surface, h: float, margin: float = 0.0,
                 max_bytes: float | None = None) -> DesignGrid:
     """The design surface sampled on square cells of side ``h`` mm over its footprint.
 
     ``margin`` widens the grid around the footprint (cells there are off the part).
     ``max_bytes``: refuse (ValueError with the estimate) a grid that would need more memory.
-    A polynomial surface (Fountas' part, Bezier nets) takes the numba path, any other the
-    numpy one; both give the same grid.
+    A polynomial surface (Fountas' part, Bezier nets) or a spline takes a numba path, any
+    other the numpy one; both give the same grid.
     """
-    cells = _polynomial_cells if isinstance(surface, PolynomialSurface) else _numpy_cells
+    cells = _numpy_cells
+    if isinstance(surface, PolynomialSurface):
+        cells = _polynomial_cells
+    elif isinstance(surface, BSplineSurface):
+        cells = _spline_cells
     return _design_grid(surface, h, margin, max_bytes, cells)
 
 
@@ -238,6 +269,9 @@ def _design_grid(surface: Surface, h: float, margin: float, max_bytes: float | N
     else:
         table = _inverse_table(surface, xmin, xmax, ymin, ymax)
         z, normal, inside, U, V = cells(surface, xs, ys, table)
+    fp = footprint_of(surface)
+    if not fp.whole:  # a trimmed face: only its domain is part (no hole cell)
+        inside &= inside_grid(fp.xy_loops(surface), xs, ys)
     weight, _ = clipped_fractions(footprint_polygon(surface), float(x0), float(y0), float(h),
                                   inside)
     return DesignGrid(float(x0), float(y0), float(h), z, normal, inside, U, V, weight)

@@ -27,7 +27,7 @@ import mmap
 import numpy as np
 from numba import njit
 
-__all__ = ["bilinear", "empty_plain", "poly_cells", "table_cells"]
+__all__ = ["bilinear", "empty_plain", "poly_cells", "store_cell", "table_cells"]
 
 
 def empty_plain(shape, dtype=float) -> np.ndarray:
@@ -166,24 +166,33 @@ def poly_cells(a, sign, xs, ys, tx, ty, tu, tv, iters, tol, z, normal, inside, u
                 u = _clip(un)
                 v = _clip(vn)
             pz, suz, svz = _horner_z(a, u, v)
-            ok = (u >= -1e-9) and (u <= 1 + 1e-9) and (v >= -1e-9) and (v <= 1 + 1e-9) \
-                and (res2 < 1e-12)  # residual < 1e-6 mm
-            nx_ = (suy * svz - suz * svy) * sign
-            ny_ = (suz * svx - sux * svz) * sign
-            nz_ = (sux * svy - suy * svx) * sign
-            norm = math.sqrt(nx_ * nx_ + ny_ * ny_ + nz_ * nz_)
-            normal[iy, ix, 0] = nx_ / norm
-            normal[iy, ix, 1] = ny_ / norm
-            normal[iy, ix, 2] = nz_ / norm
-            inside[iy, ix] = ok
-            if ok:
-                z[iy, ix] = pz
-                uu[iy, ix] = u
-                vv[iy, ix] = v
-                if nz_ / norm <= 1e-6:
-                    bad += 1
-            else:
-                z[iy, ix] = np.nan
-                uu[iy, ix] = np.nan
-                vv[iy, ix] = np.nan
+            bad += store_cell(z, normal, inside, uu, vv, iy, ix, u, v, res2, sign, pz,
+                              sux, suy, suz, svx, svy, svz)
     return bad
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def store_cell(z, normal, inside, uu, vv, iy, ix, u, v, res2, sign, pz, sux, suy, suz, svx,
+               svy, svz):
+    """Write cell (iy, ix) from its last iterate (u, v), squared XY residual res2, height pz
+    and tangents S_u, S_v (rule 3 of the module docstring); 1 if it is on the part with a
+    normal that is not upward, else 0."""
+    ok = (u >= -1e-9) and (u <= 1 + 1e-9) and (v >= -1e-9) and (v <= 1 + 1e-9) \
+        and (res2 < 1e-12)  # residual < 1e-6 mm
+    nx_ = (suy * svz - suz * svy) * sign
+    ny_ = (suz * svx - sux * svz) * sign
+    nz_ = (sux * svy - suy * svx) * sign
+    norm = math.sqrt(nx_ * nx_ + ny_ * ny_ + nz_ * nz_)
+    normal[iy, ix, 0] = nx_ / norm
+    normal[iy, ix, 1] = ny_ / norm
+    normal[iy, ix, 2] = nz_ / norm
+    inside[iy, ix] = ok
+    if ok:
+        z[iy, ix] = pz
+        uu[iy, ix] = u
+        vv[iy, ix] = v
+        return 1 if nz_ / norm <= 1e-6 else 0
+    z[iy, ix] = np.nan
+    uu[iy, ix] = np.nan
+    vv[iy, ix] = np.nan
+    return 0

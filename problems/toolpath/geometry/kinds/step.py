@@ -22,7 +22,7 @@ import numpy as np
 from pydantic import StrictStr, field_validator
 
 from ..cad_faces import CadFile, face_area, face_nurbs, read_cad
-from ..footprint import Footprint
+from ..footprint import UNIT_SQUARE, Footprint
 from ..nets import resolve
 from ..nurbs import NURBSSurface
 from ..registry import SurfaceSettings, register
@@ -102,7 +102,11 @@ def face_surface(cad: CadFile, index: int, key: str) -> tuple[NURBSSurface, str 
     surf = NURBSSurface(fn.poles, fn.weights, fn.degree, fn.knots_u, fn.knots_v, name=name)
     if cad.solid:
         surf.normal_sign = -1.0 if fn.reversed else 1.0
-    surf.footprint = Footprint(fn.loops)
+    fp = Footprint(fn.loops, sampled=True)  # within cad_faces.DEFLECTION
+    lo, hi = fn.loops[0].min(axis=0), fn.loops[0].max(axis=0)
+    untrimmed = (len(fn.loops) == 1 and abs(fp.area() - 1.0) < 1e-9
+                 and np.allclose(lo, 0.0, atol=1e-9) and np.allclose(hi, 1.0, atol=1e-9))
+    surf.footprint = UNIT_SQUARE if untrimmed else fp  # an untrimmed face: the whole square
     surf.source = {"file": str(cad.path), "face": index, "unit": cad.unit}
     return surf, height_field_problem(surf)
 

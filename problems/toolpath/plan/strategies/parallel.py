@@ -59,7 +59,7 @@ def _assemble(planner, n, zones, parts, tool, genes, place):
                                planner.max_rounds) for s in parts]
     sec = {k: np.concatenate([getattr(s, k) for s in parts])
            for k in ("ind", "zone", "pass_k", "d", "ta", "tb", "spacing", "side", "run_lo",
-                     "run_hi")}
+                     "run_hi", "edge_lo", "edge_hi")}
     sec["alpha"] = np.concatenate([np.full(len(s.d), s.alpha) for s in parts])
     sec_off = np.cumsum([0] + [len(s.d) for s in parts])[:-1]
     pt_off = np.cumsum([0] + [len(sp.u) for sp in sampled])[:-1]
@@ -86,7 +86,7 @@ def _assemble(planner, n, zones, parts, tool, genes, place):
     seg = {"sec": inv[seg_sec][seg_order], "err": pts["seg_err"][seg_order],
            "len": pts["seg_len"][seg_order], "cc": np.ones(len(seg_order), bool)}
     pt = {"u": u, "v": v, "p": p, "chord": chord, "normal": normal, "tangent": tangent}
-    lo_end, hi_end = sec["ta"] <= 1e-9, sec["tb"] >= 1 - 1e-9
+    lo_end, hi_end = sec["edge_lo"], sec["edge_hi"]  # ends on the footprint's edge
     return finish(planner, n, zones, sec, reverse, new_start, count, pt, seg, tool, genes,
                   place, np.where(reverse, hi_end, lo_end), np.where(reverse, lo_end, hi_end))
 

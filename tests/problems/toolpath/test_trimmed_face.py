@@ -1,0 +1,82 @@
+"""A trimmed face with a hole and a notch (the sample STEP part's top): every pass plane is cut
+into its crossings of the footprint, and no CC point and no simulated cell lies off the face."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+pytest.importorskip("OCP")
+
+from evoplan.problems.toolpath.geometry.cad_faces import DEFLECTION  # noqa: E402
+from evoplan.problems.toolpath.geometry.crossings import inside, line_intervals  # noqa: E402
+from evoplan.problems.toolpath.geometry.spec import parse_surface  # noqa: E402
+from evoplan.problems.toolpath.plan.planner import Planner  # noqa: E402
+from evoplan.problems.toolpath.plan.zones import ZoningSpec  # noqa: E402
+from evoplan.problems.toolpath.simulation import design_grid, sweep_path  # noqa: E402
+from evoplan.problems.toolpath.tools import parse_tools  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[3]
+PART = ROOT / "runs" / "parts" / "sculpted_block.step"
+HX, HY, HR = 65.0, 40.0, 8.0  # runs/parts/make_step_part.py: HOLE
+NOTCH = (30.0, 30.0, 50.0)  # x < 30 with 30 < y < 50 is cut away
+BALL = [{"id": 1, "type": "ball", "diameter": 6.0}]
+
+
+@pytest.fixture(scope="module")
+def top():
+    return parse_surface({"type": "step", "file": str(PART), "face": "largest"})
+
+
+def off_face(xy, margin):
+    """Points more than ``margin`` mm inside the hole or the notch, or off the block."""
+    x, y = xy[:, 0], xy[:, 1]
+    hole = np.hypot(x - HX, y - HY) < HR - margin
+    nx, ny0, ny1 = NOTCH
+    notch = (x < nx - margin) & (y > ny0 + margin) & (y < ny1 - margin)
+    block = (x < -margin) | (x > 100 + margin) | (y < -margin) | (y > 80 + margin)
+    return hole | notch | block
+
+
+def test_the_top_face_is_the_trimmed_free_form_face(top):
+    assert len(top.footprint.loops) == 2  # the outer wire (with the notch) and the hole
+    xy = top.footprint.xy_loops(top)
+    hole = xy[1]
+    assert np.abs(np.hypot(hole[:, 0] - HX, hole[:, 1] - HY) - HR).max() < 2 * DEFLECTION
+
+
+def test_crossings_split_lines_at_holes():
+    square = np.array([[0, 0], [4, 0], [4, 4], [0, 4]], float)
+    hole = np.array([[1, 1], [3, 1], [3, 3], [1, 3]], float)
+    line, xa, xb, first, last = line_intervals([square, hole], np.array([2.0, 0.5]))
+    assert line.tolist() == [0, 0, 1] and xa.tolist() == [0, 3, 0] and xb.tolist() == [1, 4, 4]
+    assert first.tolist() == [True, False, True] and last.tolist() == [False, True, True]
+    pts = np.array([[2, 2], [0.5, 2], [3.5, 3.5], [5, 2]], float)
+    assert inside([square, hole], pts[:, 0], pts[:, 1]).tolist() == [False, True, True, False]
+
+
+@pytest.mark.parametrize("zoned", [False, True])
+def test_no_cc_point_and_no_cut_cell_in_the_hole(top, zoned):
+    """A 3-axis ball plan along X: planes through the hole are cut in two sections, its CC
+    points keep off the hole and the notch (to the trimming curves' sampling, 1e-3 mm), and
+    the cut simulation counts no cell there, yet cuts the face around them."""
+    kw = dict(zoning=ZoningSpec("kmeans", mesh=(24, 24)), feed_angle=None) if zoned else {}
+    planner = Planner(top, parse_tools(BALL), machine="3axis", tolerance=0.01, **kw)
+    genes = {"tool": [0], "stepover": [45.0], "step": [3.0]} | ({"zones": [2]} if zoned else {})
+    batch = planner.plan({k: np.asarray(v) for k, v in genes.items()})
+    cc = batch.p[batch.on_part]
+    assert len(cc) > 200 and not off_face(cc[:, :2], 2 * DEFLECTION).any()
+    if not zoned:  # planes 32 < y < 48 meet the face twice: left and right of the hole
+        per_plane = np.bincount(batch.sec_pass)
+        d = np.array([batch.sec_d[batch.sec_pass == k][0] for k in range(len(per_plane))])
+        through = np.abs(d - HY) < HR
+        assert through.sum() >= 3 and (per_plane == np.where(through, 2, 1)).all()
+    grid = design_grid(top, 0.5)
+    cx, cy = np.meshgrid(grid.xs, grid.ys)
+    centres = np.column_stack([cx.ravel(), cy.ravel()])
+    assert not grid.inside.ravel()[off_face(centres, 0.3)].any()  # no cell in the hole
+    res = sweep_path(planner.cl_path({k: [v[0]] for k, v in genes.items()}), grid).values
+    cut = grid.inside & np.isfinite(res) & (res < 0.5)
+    assert cut.sum() > 0.95 * grid.inside.sum()  # the face around the hole is machined
