@@ -18,7 +18,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-__all__ = ["spline_jet"]
+__all__ = ["spline_jet", "basis1"]
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
@@ -81,6 +81,35 @@ def _ders(t, p, span, x, nd, ndu, a, left, right, out):
         for r in range(p + 1):
             out[k, r] *= f
         f *= p - k
+
+
+@njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def basis1(t, p, span, x, n, dn, low, left, right):
+    """n[r] = N_{span-p+r,p}(x) and dn[r] its derivative (the lighter path for first
+    derivatives only): the triangle of Algorithm A2.2 (The NURBS Book) up to degree p,
+    keeping degree p - 1 in ``low``, then Eq. 2.7, N'_{i,p} = p N_{i,p-1} / (t_{i+p} - t_i)
+    - p N_{i+1,p-1} / (t_{i+p+1} - t_{i+1}), whose knot differences are sums of the
+    triangle's ``right`` and ``left`` terms."""
+    n[0] = 1.0
+    for j in range(1, p + 1):
+        left[j] = x - t[span + 1 - j]
+        right[j] = t[span + j] - x
+        if j == p:
+            for r in range(p):
+                low[r] = n[r]
+        saved = 0.0
+        for r in range(j):
+            temp = n[r] / (right[r + 1] + left[j - r])
+            n[r] = saved + right[r + 1] * temp
+            saved = left[j - r] * temp
+        n[j] = saved
+    for r in range(p + 1):
+        d = 0.0
+        if r >= 1:
+            d += low[r - 1] / (right[r] + left[p - r + 1])
+        if r <= p - 1:
+            d -= low[r] / (right[r + 1] + left[p - r])
+        dn[r] = p * d
 
 
 @njit(cache=True, nogil=True, error_model="numpy")

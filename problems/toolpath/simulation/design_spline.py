@@ -6,7 +6,7 @@ the bilinear seed from the coarse inverse table, Newton's method on (x(u, v), y(
 clipped to [0, 1]^2, as :class:`~..geometry.bspline.BSplineSurface` does), the same on-part
 rule and the unit normal ``sign * (S_u x S_v) / |S_u x S_v|``. The point and its first
 derivatives come from the homogeneous poles (w P, w) (weights 1 for a B-spline) by the
-basis functions of ``geometry/spline_kernel.py`` and the quotient rule
+basis functions of ``geometry/spline_kernel.py`` (``basis1``) and the quotient rule
 S_u = (A_u - w_u S) / w (Piegl & Tiller, Eq. 4.20): no temporary array per cell.
 """
 
@@ -15,33 +15,35 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from ..geometry.spline_kernel import _ders, _span
+from ..geometry.spline_kernel import _span, basis1
 from .design_poly import _clip, bilinear, store_cell
 
 __all__ = ["spline_cells"]
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
-def _point(h, tu, tv, p, q, lo_u, sp_u, lo_v, sp_v, u, v, ndu_u, ndu_v, a_u, a_v, lu, ru,
-           lv, rv, bu, bv, acc, out):
-    """out[0:3] = S, out[3:6] = S_u, out[6:9] = S_v at (u, v) of the unit square."""
+@njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _point(h, tu, tv, p, q, lo_u, sp_u, lo_v, sp_v, u, v, nu0, nu1, nv0, nv1, low, left,
+           right, acc, out):
+    """out[0:3] = S, out[3:6] = S_u, out[6:9] = S_v at (u, v) of the unit square; bu, bv
+    nu0, nu1, nv0, nv1: scratch for the basis functions and their derivatives."""
     x = lo_u + min(max(u, 0.0), 1.0) * sp_u
     y = lo_v + min(max(v, 0.0), 1.0) * sp_v
     su = _span(tu, p, h.shape[0], x)
     sv = _span(tv, q, h.shape[1], y)
-    _ders(tu, p, su, x, 1, ndu_u, a_u, lu, ru, bu)
-    _ders(tv, q, sv, y, 1, ndu_v, a_v, lv, rv, bv)
+    basis1(tu, p, su, x, nu0, nu1, low, left, right)
+    basis1(tv, q, sv, y, nv0, nv1, low, left, right)
     acc[:] = 0.0  # A (4), A_u (4), A_v (4)
     for ia in range(p + 1):
-        for ib in range(q + 1):
-            n0 = bu[0, ia] * bv[0, ib]
-            nu_ = bu[1, ia] * bv[0, ib]
-            nv_ = bu[0, ia] * bv[1, ib]
-            for c in range(4):
+        for c in range(4):  # along v first: sum_b N_b P_ab and sum_b N'_b P_ab
+            s0 = 0.0
+            s1 = 0.0
+            for ib in range(q + 1):
                 w = h[su - p + ia, sv - q + ib, c]
-                acc[c] += n0 * w
-                acc[4 + c] += nu_ * w
-                acc[8 + c] += nv_ * w
+                s0 += nv0[ib] * w
+                s1 += nv1[ib] * w
+            acc[c] += nu0[ia] * s0
+            acc[4 + c] += nu1[ia] * s0
+            acc[8 + c] += nu0[ia] * s1
     inv = 1.0 / acc[3]
     for c in range(3):
         s = acc[c] * inv
@@ -64,10 +66,9 @@ def spline_cells(h, tu, tv, p, q, lo_u, sp_u, lo_v, sp_v, sign, xs, ys, tx, ty, 
     for c in range(cx.shape[0]):
         cx[c], cy[c] = xs[c % nx], ys[c // nx]
     seed_u, seed_v = bilinear(tx, ty, tab_u, cx, cy), bilinear(tx, ty, tab_v, cx, cy)
-    ndu_u, ndu_v = np.empty((p + 1, p + 1)), np.empty((q + 1, q + 1))
-    a_u, a_v = np.empty((2, p + 1)), np.empty((2, q + 1))
-    lu, ru, lv, rv = np.empty(p + 1), np.empty(p + 1), np.empty(q + 1), np.empty(q + 1)
-    bu, bv = np.empty((2, p + 1)), np.empty((2, q + 1))
+    m = max(p, q) + 1
+    low, left, right = np.empty(m), np.empty(m), np.empty(m)
+    nu0, nu1, nv0, nv1 = np.empty(p + 1), np.empty(p + 1), np.empty(q + 1), np.empty(q + 1)
     pt, acc = np.empty(9), np.empty(12)
     bad = 0
     for c in range(cx.shape[0]):
@@ -75,8 +76,8 @@ def spline_cells(h, tu, tv, p, q, lo_u, sp_u, lo_v, sp_v, sign, xs, ys, tx, ty, 
         x, y, u, v = cx[c], cy[c], seed_u[c], seed_v[c]
         res2 = np.inf
         for k in range(iters + 1):
-            _point(h, tu, tv, p, q, lo_u, sp_u, lo_v, sp_v, u, v, ndu_u, ndu_v, a_u, a_v,
-                   lu, ru, lv, rv, bu, bv, acc, pt)
+            _point(h, tu, tv, p, q, lo_u, sp_u, lo_v, sp_v, u, v, nu0, nu1, nv0, nv1, low,
+                   left, right, acc, pt)
             rx, ry = pt[0] - x, pt[1] - y
             res2 = rx * rx + ry * ry
             if k == iters or not res2 > tol2:

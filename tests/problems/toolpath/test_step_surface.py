@@ -156,3 +156,51 @@ def test_a_missing_cad_extra_is_one_line_naming_it(tmp_path, monkeypatch):
     with pytest.raises(EvoplanError) as err:
         parse_surface({"type": "step", "file": str(path), "face": 0})
     assert "evoplan[cad]" in str(err.value) and "\n" not in str(err.value)
+
+
+def test_a_ball_plan_on_a_step_cylinder_leaves_the_circle_intersection_cusp(tmp_path):
+    """A cylinder face (OCCT's Geom_CylindricalSurface, axis X, radius 30, 44 deg of arc)
+    written as STEP and read back (rational, exact); a 3-axis ball plan (D8) along the axis,
+    simulated on a 0.05 mm grid: every cell between the passes is left at the closed form,
+    the upper envelope of the ball circles of radius r about the centres on the offset
+    cylinder (their cusp is where two circles intersect), to 2e-5 mm as the NURBS cylinder
+    test (test_nurbs_surface.py) holds its cusp."""
+    from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace
+    from OCP.Geom import Geom_CylindricalSurface
+    from OCP.gp import gp_Ax3, gp_Dir, gp_Pnt
+
+    from evoplan.problems.toolpath.plan.planner import Planner
+    from evoplan.problems.toolpath.simulation import design_grid, sweep_path
+    from evoplan.problems.toolpath.tools import parse_tools
+
+    rho, r, length, half = 30.0, 4.0, 20.0, np.radians(22.0)
+    cyl = Geom_CylindricalSurface(gp_Ax3(gp_Pnt(0, 0, 0), gp_Dir(1, 0, 0), gp_Dir(0, 1, 0)), rho)
+    face = BRepBuilderAPI_MakeFace(cyl, np.pi / 2 - half, np.pi / 2 + half, 0.0, length,
+                                   1e-7).Face()
+    write_cad(face, tmp_path / "cylinder.step")
+    surf = parse_surface({"type": "step", "file": str(tmp_path / "cylinder.step")})
+    u, v = grid(9)
+    p = surf.points(u, v)
+    assert np.abs(np.hypot(p[:, 1], p[:, 2]) - rho).max() < 1e-9
+    planner = Planner(surf, parse_tools([{"id": 1, "type": "ball", "diameter": 2 * r}]),
+                      machine="3axis", tolerance=0.005)
+    path = planner.cl_path({"tool": [0], "stepover": [30.0], "step": [5.0]})
+    centre = path.tip + (0.0, 0.0, r)
+    d = rho + r
+    assert np.abs(np.hypot(centre[:, 1], centre[:, 2]) - d).max() < 1e-9  # tangent balls
+    phi = np.unique(np.round(np.arctan2(centre[:, 1], centre[:, 2]), 9))  # one per pass
+    assert len(phi) >= 8
+    g = design_grid(surf, 0.05)
+    res = sweep_path(path, g).values
+    x, y = np.meshgrid(g.xs, g.ys)
+    theta = np.arctan2(y, g.z)  # each cell's angle about the axis (its ray is radial)
+    off = theta[..., None] - phi
+    disc = r * r - (d * np.sin(off)) ** 2
+    reach = np.where(disc >= 0, d * np.cos(off) - np.sqrt(np.abs(disc)), np.inf)
+    want = reach.min(axis=-1) - rho  # the lowest ball surface along each ray
+    keep = g.inside & (x > 3) & (x < length - 3) & (theta > phi[1]) & (theta < phi[-2])
+    assert keep.sum() > 50000
+    assert np.abs(res - want)[keep].max() < 2e-5
+    gaps = np.diff(phi[1:-1])
+    cusps = d * np.cos(gaps / 2) - np.sqrt(r * r - (d * np.sin(gaps / 2)) ** 2) - rho
+    assert res[keep].max() <= cusps.max() + 2e-5 and res[keep].max() > 0.9 * cusps.max()
