@@ -91,6 +91,7 @@ def analyze(study: StudyConfig, folder: StudyFolder, records: list[dict[str, Any
 
         ids = functions((spec.label or spec.name, spec.name, spec.params) for spec in study.problems)
         export(folder.out, runs, folder.trace, known, ids)
+    left_out_text = "; ".join(f"{_variant(r)} ({r.failed} of {r.runs} runs failed)" for r in left_out.itertuples())
     names = []
     if study.output.plots and len(ok_runs):
         from . import figures
@@ -102,7 +103,7 @@ def analyze(study: StudyConfig, folder: StudyFolder, records: list[dict[str, Any
         }
         if diagrams:
             colors = {name: style["color"] for name, style in figures.variant_styles(runs).items()}
-            plots["figures/critical_difference.png"] = lambda: cd_diagram(diagrams, st.alpha, colors)
+            plots["figures/critical_difference.png"] = lambda: cd_diagram(diagrams, st.alpha, colors, left_out_text)
         if (runs["factor"] != "").any():
             plots["figures/factor_effects.png"] = lambda: figures.factor_effects(runs, known)
             plots["figures/factor_generations.png"] = lambda: figures.factor_generations(runs, history, known)
@@ -119,8 +120,7 @@ def analyze(study: StudyConfig, folder: StudyFolder, records: list[dict[str, Any
         "failed runs": int((runs_all["status"] != "ok").sum()),
     }
     if len(left_out):
-        meta["left out of the tests, ranks and figures"] = "; ".join(
-            f"{_variant(r)} ({r.failed} of {r.runs} runs failed)" for r in left_out.itertuples())
+        meta["left out of the tests, ranks and figures"] = left_out_text
     failures = runs_all[runs_all["status"] != "ok"]
     extra = {"budget": study.cache.budget, "rope": st.rope, "friedman": ranks, "bayes": bayes}
     text = render(study.name or "study", meta, summary, tests, f_ref, known, names, failures, st.test, st.alpha,

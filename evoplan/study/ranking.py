@@ -72,8 +72,11 @@ def friedman(runs: pd.DataFrame, reference: str, reference_levels: dict[str, str
     return (pd.DataFrame(rows, columns=FRIEDMAN_COLUMNS), pd.DataFrame(pairs), diagrams)
 
 
-def cd_diagram(diagrams, alpha: float = 0.05, colors: dict[str, str] | None = None) -> bytes:
+def cd_diagram(diagrams, alpha: float = 0.05, colors: dict[str, str] | None = None, left_out: str = "") -> bytes:
     """The critical-difference diagrams of :func:`friedman`, one panel each, as PNG bytes.
+
+    ``left_out`` names the variants with failed runs that the ranks leave out (a caption under
+    the panels, so the figure does not read as if they had never been run).
 
     ``colors`` maps a variant's label to its colour in the study's other figures
     (:func:`evoplan.study.figures.variant_styles`), so a variant keeps its colour here too,
@@ -92,6 +95,8 @@ def cd_diagram(diagrams, alpha: float = 0.05, colors: dict[str, str] | None = No
                                        color_palette={n: colors[n] for n in ranks.index})
         ax.set_title(f"{title}: mean rank (1 = best); a bar joins variants not separated at alpha = {alpha}",
                      fontsize=9)
+    if left_out:
+        fig.text(0.01, -0.02, f"left out (failed runs): {left_out}", ha="left", va="top", fontsize=8, wrap=True)
     return png(fig)
 
 

@@ -3,6 +3,7 @@ and their variants are left out of the tests, ranks and figures, which the repor
 
 from __future__ import annotations
 
+import re
 import sys
 
 import pandas as pd
@@ -36,6 +37,10 @@ def test_failed_cells_exit_3_and_their_variant_is_left_out(tmp_path, monkeypatch
         return record, history, trace
 
     monkeypatch.setattr(runner, "run_cell", vega_fails)
+    import evoplan.figure_style as style
+
+    figures, png = [], style.png
+    monkeypatch.setattr(style, "png", lambda fig: figures.append(fig) or png(fig))
     import yaml
     path = tmp_path / "s.yaml"
     path.write_text(yaml.safe_dump(STUDY))
@@ -51,3 +56,8 @@ def test_failed_cells_exit_3_and_their_variant_is_left_out(tmp_path, monkeypatch
     report = (out / "report.md").read_text()
     assert "left out of the tests, ranks and figures" in report and "vega (3 of 3 runs failed)" in report
     assert len(pd.read_csv(out / "runs.csv")) == 12  # every run is still a row
+    # the CD diagram draws ga, ga8 and ga10, and its caption names vega as left out
+    (cd,) = [f for f in figures if any("mean rank" in ax.get_title() for ax in f.axes)]
+    drawn = {re.sub(r"\([^)]*\)", "", t.get_text()).strip() for t in cd.axes[0].texts}  # "ga8 (2)", "(3) ga"
+    assert drawn == {"ga", "ga8", "ga10"}, drawn
+    assert [t.get_text() for t in cd.texts] == ["left out (failed runs): vega (3 of 3 runs failed)"]
