@@ -1,5 +1,5 @@
-"""Every folder writer (simulate, machine, zone, study) on a full disk and killed mid-write:
-one line, no folder that looks finished, no stale temporary blocking the next ``--out``."""
+"""Every folder writer (simulate, evaluate --out, run, machine, zone, study) on a full disk and killed
+mid-write: one line, no folder that looks finished, no stale temporary blocking the next ``--out``."""
 
 from __future__ import annotations
 
@@ -25,6 +25,10 @@ SIM = ["--set", "tool=8", "--set", "stepover=30.0", "--set", "lead=1.0", "--set"
 def command(tmp_path: Path, name: str) -> list[str]:
     if name == "simulate":
         return ["simulate", str(ROOT / "runs/fountas_toolpath_vega.yaml"), *SIM]
+    if name == "evaluate":  # criteria.json, toolpath.apt, the zone map and the NC program
+        return ["evaluate", str(ROOT / "runs/fountas_toolpath_vega.yaml"), *SIM[:-2], "--post", "fanuc"]
+    if name == "run":
+        return ["run", str(ROOT / "runs/kubota_vega.yaml"), "--quiet"]
     text = {"machine": MACHINE, "zone": ZONE, "study": STUDY}[name]
     path = tmp_path / f"{name}.yaml"
     path.write_text(text)
@@ -48,7 +52,7 @@ def small_disk(tmp_path):
         subprocess.run(["umount", str(disk)], capture_output=True)
 
 
-@pytest.mark.parametrize("name", ["simulate", "machine", "zone", "study"])
+@pytest.mark.parametrize("name", ["simulate", "evaluate", "run", "machine", "zone", "study"])
 def test_a_full_disk_is_one_line_and_no_partial_folder(tmp_path, small_disk, name):
     out = small_disk / "out"
     proc = evoplan([*command(tmp_path, name), "--out", str(out)])
@@ -56,6 +60,8 @@ def test_a_full_disk_is_one_line_and_no_partial_folder(tmp_path, small_disk, nam
     assert len(proc.stderr.strip().splitlines()) == 1 and "No space left" in proc.stderr, proc.stderr
     if name == "study" and out.exists():  # a study is resumable cell by cell, like a run's checkpoint
         assert "resume" in proc.stderr and (out / "study.yaml").is_file()
+    elif name == "run" and out.exists():  # a run keeps its last checkpoint, and says how to go on
+        assert "--resume" in proc.stderr and (out / "checkpoint.npz").is_file() and not (out / "best.json").exists()
     else:
         assert list(small_disk.iterdir()) == [], list(small_disk.iterdir())
 
