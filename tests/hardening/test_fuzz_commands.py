@@ -1,5 +1,5 @@
 """Fuzzing every command's inputs (hypothesis): study, zone and machine files, evaluate's and
-simulate's command-line values, and control nets. Whatever the input, the command's reading,
+simulate's command-line values, control nets, and part files (meshes, CAD faces). Whatever the input, the command's reading,
 validation and size estimates either accept it or raise one :class:`EvoplanError` (or the
 ``ValueError`` the command turns into one) whose message is one short line: never another
 exception. Work is bounded: machine is checked up to its size estimates, zone up to its plan on
@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import os
 from functools import lru_cache
+from pathlib import Path
 
 import numpy as np
 import yaml
@@ -165,5 +166,40 @@ def test_control_nets(poles, kind):
 
     try:
         parse_surface({"type": kind, "poles": poles}, "surface")
+    except (EvoplanError, ValueError) as e:
+        one_line(e)
+
+
+PARTS = Path(__file__).resolve().parents[2] / "runs" / "parts"
+
+
+@lru_cache(maxsize=None)
+def _part(name: str) -> bytes:
+    return (PARTS / name).read_bytes()
+
+
+@FAST
+@given(st.sampled_from([("mesh", "stl", "wavy_mesh.stl"), ("mesh", "obj", None), ("mesh", "ply", None),
+                        ("step", "step", "sculpted_block.step"), ("iges", "iges", None)]),
+       st.sampled_from(["noise", "truncated", "flipped", "text"]), st.binary(min_size=0, max_size=400),
+       st.floats(0.0, 1.0), st.sampled_from([None, 0, 3, 99, "largest", -1, "x"]))
+def test_part_files_are_read_or_refused_in_one_line(tmp_path_factory, kind, damage, noise, where, face):
+    """A damaged or made-up part file (STL/OBJ/PLY mesh, STEP/IGES face) is read or refused in
+    one line: truncated or with flipped bytes at a random place, random bytes, or text."""
+    from evoplan.problems.toolpath.geometry.spec import parse_surface
+
+    surface_type, suffix, sample = kind
+    base = _part(sample) if sample else b"solid x\nendsolid x\n"
+    cut = int(where * len(base))
+    data = {"noise": noise, "truncated": base[:cut],
+            "flipped": base[:cut] + bytes(b ^ 0x5A for b in base[cut:cut + 64]) + base[cut + 64:],
+            "text": noise.decode("latin-1").encode()}[damage]
+    path = tmp_path_factory.mktemp("part") / f"part.{suffix}"
+    path.write_bytes(data)
+    spec = {"type": surface_type, "file": str(path)}
+    if face is not None and surface_type != "mesh":
+        spec["face"] = face
+    try:
+        parse_surface(spec, "surface")
     except (EvoplanError, ValueError) as e:
         one_line(e)
