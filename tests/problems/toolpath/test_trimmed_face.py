@@ -80,3 +80,19 @@ def test_no_cc_point_and_no_cut_cell_in_the_hole(top, zoned):
     res = sweep_path(planner.cl_path({k: [v[0]] for k, v in genes.items()}), grid).values
     cut = grid.inside & np.isfinite(res) & (res < 0.5)
     assert cut.sum() > 0.95 * grid.inside.sum()  # the face around the hole is machined
+
+
+def test_the_committed_part_is_what_its_script_makes(tmp_path):
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("make_step_part",
+                                                  ROOT / "runs" / "parts" / "make_step_part.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    assert module.main(["--out", str(tmp_path / "part.step")]) == 0
+    made = parse_surface({"type": "step", "file": str(tmp_path / "part.step"), "face": "largest"})
+    shipped = parse_surface({"type": "step", "file": str(PART), "face": "largest"})
+    assert np.abs(made.poles - shipped.poles).max() < 1e-9
+    assert [len(lp) for lp in made.footprint.loops] == [len(lp) for lp in shipped.footprint.loops]
+    assert max(np.abs(a - b).max() for a, b in zip(made.footprint.loops,
+                                                    shipped.footprint.loops)) < 1e-9
