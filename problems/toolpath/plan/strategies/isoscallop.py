@@ -12,17 +12,26 @@ Per zone (the planner's zone layout: labels, feed direction alpha, adaptive plan
   offsets of a plane section are planes, so ``isoscallop`` then equals ``parallel`` at the
   closed-form spacing (tested).
 - **Next pass**: from every point of the pass, a walk on the surface along the cross-feed
-  tangent b = n x t (oriented towards +c) by the width w that leaves a cusp of exactly h_c
-  between the two passes there (``offsets.cross_width``: 3-axis the cutter's exact swept
-  profile in the cross-feed plane, the model parallel planes are spaced by; 5-axis the
-  lead/tilt effective radius and the normal curvature).
-- **Clean-up**: points where the new pass folds back on itself (its segment runs against
-  the previous pass's: a loop of the offset in a concave region) are trimmed; the pass is
+  tangent b = n x t (oriented towards +c) by the width w that leaves a cusp of h_c
+  between the two passes there. 3-axis: w is this pass's +b half-width plus the next
+  pass's half-width on its side facing back, each the exact swept profile of the vertical
+  cutter on that side with the curvature across the feed to second order
+  (``offsets.facing_width``; a torus's two sides differ: corner arc uphill, flat bottom
+  downhill), the next pass's frame taken where w puts it (twice); then checked against the
+  two passes' real sweeps over the surface between them (``offsets.cusp_heights``: the
+  model's one curvature and straight passes fail on ridges and bends) and narrowed where
+  they leave more than h_c (three times). 5-axis: the lead/tilt effective radius and the
+  normal curvature (``offsets.cross_width``). Widths are smoothed along the pass without
+  ever exceeding a raw width within +-2 mm.
+- **Clean-up**: the loops of the new pass (the swallowtail where the pass bends towards
+  its offsets) are cut out at their crossing (``offsets.untangle``); the pass is
   resampled every ``resample`` mm of arc; points past the footprint are clipped, keeping
   the crossing point on the edge; the propagation stops when no point is left.
 - **Zone**: a pass is cut wherever it or its offset lies in the zone (the band rule of
   parallel planes: the two passes around every zone point are cut beside it, so zoned
-  plans keep cutting their borders); where a pass's offset leaves the footprint, the
+  plans keep cutting their borders), run on half the cutter's radius past it (the next
+  zone's passes meet these at an angle: the triangles between their ends stay uncut
+  otherwise); where a pass's offset leaves the footprint, the
   stretch of edge between them is cut as a **border pass** (the last pass on the border).
 
 Passes depend only on (zone layout, tool, h_c, and for 5-axis lead/tilt): memoized.
@@ -31,11 +40,14 @@ Passes depend only on (zone layout, tool, h_c, and for 5-axis lead/tilt): memoiz
 from __future__ import annotations
 
 import numpy as np
-from scipy.ndimage import minimum_filter1d
+from scipy.ndimage import maximum_filter1d, minimum_filter1d, uniform_filter1d
 
+from ...geometry.surface import unit_normal
 from ..curves import Piece
+from ..zoning.stepover import ScallopTarget
 from .base import CurveStrategy
-from .offsets import cross_width, extend_to_edge, march, pass_frame, resample, runs, zone_mask
+from .offsets import (cross_width, cusp_heights, extend_to_edge, facing_width, march,
+                      pass_frame, resample, runs, untangle, zone_mask)
 
 __all__ = ["IsoScallop", "zone_passes"]
 
@@ -80,7 +92,7 @@ def zone_passes(planner, layout, z, cutter, h_c, lead_tilt=None, offset=None, ds
 
 
 def _propagate(planner, layout, z, cutter, h_c, lead_tilt, master, sign, ds, max_passes,
-               window=2.0):
+               window=2.0, settle=2):
     surface, alpha = planner.surface, layout.alpha[z]
     c0 = sign * np.array([-np.sin(alpha), np.cos(alpha), 0.0])
     front = [master]
@@ -92,11 +104,11 @@ def _propagate(planner, layout, z, cutter, h_c, lead_tilt, master, sign, ds, max
                 continue
             jet, n, t, b = pass_frame(surface, uv)
             b *= np.where(b[:, :2] @ c0[:2] >= 0, 1.0, -1.0)[:, None]
-            w = cross_width(surface, cutter, h_c, jet, t, b, lead_tilt)
-            # the smallest width within +-window mm along the pass: never wider than h_c
-            # allows, and a torus's widths (which change fast with the slope) do not crease
-            # the next pass into loops
-            w = minimum_filter1d(w, 2 * int(round(window / ds)) + 1, mode="nearest")
+            size = 2 * int(round(window / ds)) + 1
+            if lead_tilt is None:
+                w = _facing_widths(surface, cutter, h_c, uv, jet, t, b, size, settle)
+            else:
+                w = _smooth(cross_width(surface, cutter, h_c, jet, t, b, lead_tilt), size)
             nxt = march(surface, uv, b, w)
             p_new = surface.jet(nxt[:, 0], nxt[:, 1], order=0).p
             dxy = p_new[:, :2] - jet.p[:, :2]
@@ -106,6 +118,11 @@ def _propagate(planner, layout, z, cutter, h_c, lead_tilt, master, sign, ds, max
             in_box = np.all((nxt >= 0) & (nxt <= 1), axis=1)
             here = zone_mask(layout.labels, z, uv)
             band = here | (zone_mask(layout.labels, z, nxt) & in_box)
+            if not band.all():  # run on past the zone's border by half the cutter's
+                # radius: the next zone's passes meet these at an angle, and the triangles
+                # between their ends would stay uncut
+                band = maximum_filter1d(band.astype(np.int8), 2 * int(np.ceil(
+                    0.5 * cutter.radius / ds)) + 1, mode="nearest").astype(bool)
             for a, e in runs(band):
                 pieces.append(Piece(uv[a:e], cross[a:e], gap[a:e], z, k, alpha))
             for a, e in runs(~in_box & here):  # the offset leaves the footprint: the edge
@@ -113,17 +130,17 @@ def _propagate(planner, layout, z, cutter, h_c, lead_tilt, master, sign, ds, max
                 if e - a >= 2:
                     border.append(Piece(edge, np.zeros((e - a, 3)), np.zeros(e - a), z, k + 1,
                                         alpha, (True, True)))
-            # the next front: folds trimmed, clipped to the footprint (crossings kept)
-            seg_old, seg_new = np.diff(jet.p, axis=0), np.diff(p_new, axis=0)
-            fold = np.einsum("ij,ij->i", seg_old, seg_new) <= 0
-            ok = np.r_[~fold, True] & np.r_[True, ~fold]
+            # the next front: its loops cut out (the swallowtail where this pass bends
+            # towards its offsets: the corner left is where the two arms meet), clipped to
+            # the footprint (crossings kept)
             keep = in_box.copy()
             keep[:-1] |= in_box[1:]
             keep[1:] |= in_box[:-1]
-            for a, e in runs(ok & keep):
-                if e - a >= 2:
-                    new_front.append(resample(surface, extend_to_edge(
-                        np.clip(nxt[a:e], 0.0, 1.0)), ds))
+            for a, e in runs(keep):
+                if e - a < 2:
+                    continue
+                new_front.append(resample(surface, extend_to_edge(
+                    np.clip(untangle(nxt[a:e]), 0.0, 1.0)), ds))
         for pc in pieces:
             pc.edge = (bool(np.any((pc.uv[0] <= 1e-7) | (pc.uv[0] >= 1 - 1e-7))),
                        bool(np.any((pc.uv[-1] <= 1e-7) | (pc.uv[-1] >= 1 - 1e-7))))
@@ -135,6 +152,41 @@ def _propagate(planner, layout, z, cutter, h_c, lead_tilt, master, sign, ds, max
         if not front:
             break
     return out
+
+
+def _smooth(w, size):
+    """The widths w along a pass, never wider than any raw width within the window: the
+    smallest width within +-window (a torus's widths change fast with the slope: raw, they
+    crease the next pass into loops), then its mean over the same window (no steps, and
+    still <= every raw width there: each value averaged is a minimum over a window that
+    holds the point)."""
+    return uniform_filter1d(minimum_filter1d(w, size, mode="nearest"), size, mode="nearest")
+
+
+def _facing_widths(surface, cutter, h_c, uv, jet, t, b, size, settle, check=3):
+    """3-axis spacing from the pass uv towards +b: this pass's +b half-width plus the next
+    pass's half-width on its side facing back (``offsets.facing_width``), the next pass's
+    frame taken where the spacing puts it (the feed tangent carried over to its tangent
+    plane: offsets are locally parallel), ``settle`` times."""
+    near = facing_width(surface, cutter, h_c, jet, t, b)
+    w = _smooth(near + facing_width(surface, cutter, h_c, jet, t, -b), size)
+    for _ in range(settle):
+        nxt = march(surface, uv, b, w)
+        j2 = surface.jet(nxt[:, 0], nxt[:, 1], order=2)
+        n2 = unit_normal(j2, surface.normal_sign)
+        t2 = np.gradient(j2.p, axis=0)  # the next pass's own travel direction
+        t2 *= np.where(np.einsum("ij,ij->i", t2, t) >= 0, 1.0, -1.0)[:, None]
+        t2 -= np.einsum("ij,ij->i", t2, n2)[:, None] * n2
+        t2 /= np.maximum(np.linalg.norm(t2, axis=1, keepdims=True), 1e-300)
+        b2 = np.cross(n2, t2)
+        w = _smooth(near + facing_width(surface, cutter, h_c, j2, t2, -b2), size)
+    for _ in range(check):  # narrowed where the two passes' real sweeps leave more than h_c
+        cusp = cusp_heights(surface, cutter, uv, march(surface, uv, b, w), b, w)
+        over = cusp > h_c
+        if not over.any():
+            break
+        w = _smooth(np.where(over, w * np.sqrt(h_c / np.maximum(cusp, 1e-12)), w), size)
+    return w
 
 
 def zigzag(passes):

@@ -6,11 +6,11 @@ from __future__ import annotations
 import numpy as np
 
 from ...geometry.surface import normal_curvature, unit_normal
-from ..zoning.profile import profile_width
+from ..zoning.profile import profile_width, side_width
 from ..zoning.stepover import ScallopTarget
 
-__all__ = ["cross_width", "march", "runs", "resample", "zone_mask", "pass_frame",
-           "extend_to_edge"]
+__all__ = ["cross_width", "facing_width", "march", "runs", "resample", "zone_mask",
+           "pass_frame", "extend_to_edge", "untangle", "cusp_heights"]
 
 
 def _ray_to_box(x, d, reach: float):
@@ -80,24 +80,107 @@ def cross_width(surface, cutter, h_c, jet, t, b, lead_tilt=None):
     return np.minimum(w, target.width_cap)
 
 
+def facing_width(surface, cutter, h_c, jet, t, b) -> np.ndarray:
+    """3-axis: the half-width (mm, along +b) of a vertical cutter's cusp of h_c on the +b
+    side of each contact (``zoning/profile.side_width``: the exact profile of that side,
+    the curvature across the feed to second order). Two passes are spaced by the sum of
+    their facing sides, each in its own frame: the torus's two sides differ (corner arc
+    uphill, flat bottom downhill) and change with the slope from one pass to the next."""
+    kappa = normal_curvature(jet, b, surface.normal_sign)
+    return side_width(ScallopTarget(cutter, float(h_c)), t[:, 2], b[:, 2], kappa)
+
+
+def cusp_heights(surface, cutter, uv, nxt, b, w, samples: int = 9, reach: int = 4):
+    """3-axis: the material a vertical cutter leaves between a pass uv (M, 2) and its
+    offset nxt (M, 2), measured the way the cut simulation does: at ``samples`` points on
+    the surface between each pair (a walk along b by fractions of w), the lower of the two
+    passes' swept bottoms (each pass's tool, tangent at its CC points, at the 2 reach + 1
+    positions around the pair: the sweep along the feed) above the surface, along the
+    normal; the largest per pair (M,). The width models assume each cross-section is one
+    curvature and each pass straight; this check holds on ridges and bends."""
+    m = len(uv)
+    k = np.clip(np.arange(m)[:, None] + np.arange(-reach, reach + 1)[None, :], 0, m - 1)
+    envs = []
+    for pts in (uv, nxt):
+        j = surface.jet(pts[:, 0], pts[:, 1], order=1)
+        tips = cutter.cc_to_tip(j.p, unit_normal(j, surface.normal_sign))
+        envs.append(tips[k])  # (M, K, 3)
+    f = np.linspace(0.0, 1.0, samples + 2)[1:-1]
+    gap = np.full(m, -np.inf)
+    for fj in f:
+        s_uv = march(surface, uv, b, w * fj)
+        js = surface.jet(s_uv[:, 0], s_uv[:, 1], order=1)
+        ns = unit_normal(js, surface.normal_sign)
+        low = np.full(m, np.inf)
+        for tips in envs:
+            rho = np.linalg.norm(js.p[:, None, :2] - tips[:, :, :2], axis=2)
+            low = np.minimum(low, np.min(tips[:, :, 2] + cutter.height(rho), axis=1))
+        gap = np.maximum(gap, (low - js.p[:, 2]) * np.abs(ns[:, 2]))
+    return gap
+
+
 def march(surface, uv, direction, dist, substeps: int = 2):
     """(u, v) reached from uv (M, 2) by walking ``dist`` (M,) mm on the surface along the
-    tangent ``direction`` (M, 3), re-projected onto the tangent plane at each substep (the
-    parameters may leave [0, 1]: the surface's extension is evaluated there)."""
-    x = uv.copy()
-    d = direction.copy()
-    for _ in range(substeps):
+    tangent ``direction`` (M, 3): ``substeps`` midpoint (second-order) steps, the direction
+    re-projected onto the tangent plane where each velocity is taken (the parameters may
+    leave [0, 1]: the surface's extension is evaluated there). A first-order (Euler) step
+    overshoots where the metric changes along the walk (1.5 % over 2.4 mm on a 28 deg slope
+    of a cylinder of radius 20 mm)."""
+
+    def velocity(x, d):
         j = surface.jet(x[:, 0], x[:, 1], order=1)
         n = unit_normal(j, surface.normal_sign)
-        d -= np.einsum("ij,ij->i", d, n)[:, None] * n
+        d = d - np.einsum("ij,ij->i", d, n)[:, None] * n
         d /= np.maximum(np.linalg.norm(d, axis=1, keepdims=True), 1e-300)
-        g = d * (dist / substeps)[:, None]
         E, F, G = (np.einsum("ij,ij->i", a, b) for a, b in ((j.su, j.su), (j.su, j.sv),
                                                            (j.sv, j.sv)))
-        r1, r2 = np.einsum("ij,ij->i", j.su, g), np.einsum("ij,ij->i", j.sv, g)
+        r1, r2 = np.einsum("ij,ij->i", j.su, d), np.einsum("ij,ij->i", j.sv, d)
         det = E * G - F * F
-        x = x + np.column_stack([(G * r1 - F * r2) / det, (E * r2 - F * r1) / det])
+        return np.column_stack([(G * r1 - F * r2) / det, (E * r2 - F * r1) / det]), d
+
+    x = uv.copy()
+    d = direction.copy()
+    h = (np.asarray(dist, float) / substeps)[:, None]
+    for _ in range(substeps):
+        k1, d = velocity(x, d)
+        k2, d_mid = velocity(x + 0.5 * h * k1, d)
+        x = x + h * k2
+        d = d_mid
     return x
+
+
+def untangle(uv, eps: float = 1e-12):
+    """The polyline uv (M, 2) with its loops cut out: wherever segment i crosses a later,
+    non-adjacent segment j, the points between them are replaced by the crossing point
+    (the farthest j first: the whole swallowtail an offset forms where the previous pass
+    bends towards its offsets). All segment pairs are tested at once (M^2 / 2 pairs: a
+    pass holds a few hundred points)."""
+    m = len(uv) - 1
+    if m < 3:
+        return uv
+    a, d = uv[:-1], np.diff(uv, axis=0)
+    i, j = np.triu_indices(m, 2)
+    den = d[i, 0] * d[j, 1] - d[i, 1] * d[j, 0]
+    ok = np.abs(den) > eps
+    i, j, den = i[ok], j[ok], den[ok]
+    w = a[j] - a[i]
+    s = (w[:, 0] * d[j, 1] - w[:, 1] * d[j, 0]) / den
+    t = (w[:, 0] * d[i, 1] - w[:, 1] * d[i, 0]) / den
+    hit = (s >= 0) & (s < 1) & (t >= 0) & (t < 1)
+    if not hit.any():
+        return uv
+    i, j, s = i[hit], j[hit], s[hit]
+    far = np.full(m, -1)
+    np.maximum.at(far, i, j)
+    s_at = {(int(x), int(y)): float(z) for x, y, z in zip(i, j, s)}
+    out, k = [uv[0]], 0
+    while k < m:
+        if far[k] > k:
+            out.append(a[k] + s_at[(k, int(far[k]))] * d[k])
+            k = int(far[k])
+        out.append(uv[k + 1])
+        k += 1
+    return np.asarray(out)
 
 
 def runs(mask):

@@ -32,7 +32,8 @@ from functools import lru_cache
 import numpy as np
 from scipy.ndimage import map_coordinates
 
-__all__ = ["ProfileTable", "profile_table", "profile_width", "angle_grid", "grid_coords",
+__all__ = ["ProfileTable", "profile_table", "profile_width", "SideTable", "side_table", "side_width",
+           "angle_grid", "grid_coords",
            "section_beta", "secant_width"]
 
 
@@ -103,3 +104,90 @@ def profile_width(target, t_z, b_z, kappa) -> np.ndarray:
     table = profile_table(target.cutter, float(target.h_c))
     w = table.width(t_z, section_beta(t_z, b_z))
     return secant_width(w, kappa, target.h_c)
+
+
+class SideTable:
+    """One side's CC half-width of a 3-axis cutter, over the height, |t_z| and the signed
+    section slope beta (``Cutter.swept_side_width``: the +b side; the -b side is -beta),
+    solved once: x (n_h, n_t, n_b) at heights uniform in sqrt(h) over [0, h_top].
+
+    :meth:`width` adds the surface's curvature across the feed EXACTLY to second order on
+    each side: the profile's height above the tangent line minus the section's rise
+    kappa x^2 / 2 (kappa > 0 concave) reaches h_c at the x where h' = h_c + kappa x(h')^2 / 2,
+    solved by bisection in h' on the table. Why not the secant correction of
+    :func:`secant_width` on the sum of the two sides: it treats the profile as one circle,
+    while a torus's two sides differ (corner arc uphill, flat bottom rising at the slope
+    downhill): on a convex section the flat side's width is overestimated by 10-15 %.
+    """
+
+    def __init__(self, cutter, h: float, n_h: int = 17, n_t: int = 33, n_b: int = 49):
+        self.h, self.h_top = h, 4.0 * h
+        self.n_h, self.n_t, self.n_b = n_h, n_t, n_b
+        # beta nodes uniform in sign(beta) sqrt|beta|, none AT 0: the flat bottom's jump
+        # (t_z = beta = 0) lies between the two innermost nodes, where :meth:`at` takes the
+        # narrower one
+        s = np.linspace(-1.0, 1.0, 2 * n_b)
+        self.beta_0 = (s[n_b] ** 2) * 0.5 * np.pi
+        tt = np.linspace(0.0, 1.0, n_t) ** 2
+        bb = np.sign(s) * s * s * 0.5 * np.pi
+        self.heights = np.linspace(0.0, 1.0, n_h) ** 2 * self.h_top
+        H, T, B = np.meshgrid(self.heights, tt, bb, indexing="ij")
+        self.table = cutter.swept_side_width(H, T, B)
+
+    def _coords(self, hh, t_z, beta):
+        k = np.sqrt(np.clip(hh / self.h_top, 0.0, 1.0)) * (self.n_h - 1)
+        i = np.sqrt(np.minimum(np.abs(t_z), 1.0)) * (self.n_t - 1)
+        s = np.sign(beta) * np.sqrt(np.minimum(np.abs(beta) / (0.5 * np.pi), 1.0))
+        j = (s + 1.0) * 0.5 * (2 * self.n_b - 1)
+        return np.stack([k, i, j])
+
+    def _lookup(self, hh, t_z, beta):
+        return map_coordinates(self.table, self._coords(hh, t_z, beta), order=1,
+                               mode="nearest")
+
+    def at(self, hh, t_z, beta) -> np.ndarray:
+        """Trilinear lookup of the half-width at height hh (arrays); between the two
+        innermost beta nodes, the narrower of them."""
+        x = self._lookup(hh, t_z, beta)
+        mid = np.abs(beta) < self.beta_0
+        if mid.any():
+            hm, tm = hh[mid], t_z[mid]
+            x[mid] = np.minimum(self._lookup(hm, tm, np.full(len(hm), self.beta_0)),
+                                self._lookup(hm, tm, np.full(len(hm), -self.beta_0)))
+        return x
+
+    def width(self, t_z, beta, kappa, iterations: int = 30) -> np.ndarray:
+        """Half-width (mm, along the surface across the feed) where the cusp is h_c on the
+        +b side of a contact with feed |t_z|, section slope beta (signed, the +b side)
+        and curvature kappa across the feed, as an arc on the surface; heights past ``h_top`` (a concave section
+        the profile hardly leaves) keep the width at h_top (narrower: on the safe side)."""
+        t_z, beta, kappa = np.broadcast_arrays(*(np.asarray(x, float) for x in
+                                                 (t_z, beta, kappa)))
+        lo, hi = np.zeros(t_z.shape), np.full(t_z.shape, self.h_top)
+        for _ in range(iterations):
+            mid = 0.5 * (lo + hi)
+            x = self.at(mid, t_z, beta)
+            below = mid - 0.5 * kappa * x * x < self.h
+            lo, hi = np.where(below, mid, lo), np.where(below, hi, mid)
+        # x is the cusp's offset along the tangent line, h_c above the surface; the width
+        # is measured on the surface, at the cusp's foot: x rho / (rho + h_c) on a convex
+        # section of radius rho, x rho / (rho - h_c) on a concave one: x / (1 - kappa h_c)
+        x = self.at(0.5 * (lo + hi), t_z, beta)
+        return x / np.maximum(1.0 - kappa * self.h, 1e-3)
+
+
+@lru_cache(maxsize=16)
+def side_table(cutter, h: float) -> SideTable:
+    """The cached :class:`SideTable` of a cutter at the cusp height h."""
+    return SideTable(cutter, h)
+
+
+def side_width(target, t_z, b_z, kappa) -> np.ndarray:
+    """CC half-width (mm, on the surface along +b) at which the cusp on the +b side of a
+    contact is h_c: the exact profile of that side with the curvature to second order
+    (:class:`SideTable`). The spacing of two passes is the sum of the facing sides, each
+    in its own pass's frame (t_z, b_z of the cross-feed tangent pointing at the other
+    pass, kappa across its feed)."""
+    t_z, b_z, kappa = np.broadcast_arrays(*(np.asarray(x, float) for x in (t_z, b_z, kappa)))
+    return side_table(target.cutter, float(target.h_c)).width(t_z, section_beta(t_z, b_z),
+                                                              kappa)
