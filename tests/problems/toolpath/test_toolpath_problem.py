@@ -127,7 +127,7 @@ def test_artifacts_title_holds_the_plan_lengths_without_evaluating_criteria():
 
     sim.simulated.measure = no_simulation
     crit = ToolpathProblem(normalization=FIXED).evaluate_params(GA)
-    assert (f"5axis, single: 1 zone(s), cutting {crit['cutting_length']:.1f} mm, Eq. 4 total "
+    assert (f"5axis, single: 1 zone, cutting {crit['cutting_length']:.1f} mm, Eq. 4 total "
             f"{crit['eq4_total']:.1f} mm") in _apt_title(sim.artifacts(sim.row(GA)[0]))
     zoned = ToolpathProblem(surface="choi", machine="3axis", spacing="scallop",
                             fixed={"step": 3.0}, ranges={"zones": [1, 3]},
@@ -137,7 +137,7 @@ def test_artifacts_title_holds_the_plan_lengths_without_evaluating_criteria():
     crit = zoned.criteria(x[None])
     zones, cutting = crit["zones"][0], crit["cutting_length"][0]
     assert zones > 1 and crit["eq4_total"][0] == pytest.approx(cutting + (zones - 1) * 40.0)
-    assert (f"3axis, kmeans: {zones:.0f} zone(s), cutting {cutting:.1f} mm, Eq. 4 total "
+    assert (f"3axis, kmeans with K = 3 gave {zones:.0f} zones, cutting {cutting:.1f} mm, Eq. 4 total "
             f"{cutting + (zones - 1) * 40.0:.1f} mm") in _apt_title(zoned.artifacts(x))
 
 
