@@ -335,3 +335,20 @@ def test_side_widths_are_the_exact_profile_and_the_two_circle_closed_form():
                                                       np.array([0.0, -0.4]),
                                                       np.full(2, -1 / rho))
     assert np.allclose(ball, half, rtol=2e-3), (ball, half)
+
+
+def test_contour_spiral_link_is_one_continuous_section_through_the_nested_loops():
+    surface, tools = parse_surface("choi"), parse_tools(BALL)
+    plans = {}
+    for link in ("loops", "spiral"):
+        pl = Planner(surface, tools, machine="3axis", spacing="scallop", h_c=H_C,
+                     feed_angle=0.0, strategy={"name": "contour", "link": link})
+        plans[link] = pl.plan(_genes(), place=False)
+    loops, sp = plans["loops"], plans["spiral"]
+    assert len(loops.sec_ind) > 5 and len(sp.sec_ind) == 1  # one offset chain, one spiral
+    step = np.linalg.norm(np.diff(sp.p, axis=0), axis=1)
+    assert step.max() <= 1.0 + 1e-6  # no link: every move a CC step along the surface
+    # it starts on the outer loop (the boundary) and ends on the inner one
+    assert np.allclose(sp.p[0], loops.p[0]) and np.allclose(sp.p[-1], loops.p[-1])
+    with pytest.raises(ValueError, match=r"^strategy\.link: expected loops or spiral"):
+        get_strategy({"name": "contour", "link": "zigzag"})

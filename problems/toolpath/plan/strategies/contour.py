@@ -9,7 +9,9 @@ itself; the next offset distance is as far from the current loop as its WORST po
 (the cross-feed width that leaves h_c, ``offsets.cross_width``, times the horizontal part
 of the inward cross-feed), until nothing is left. Each loop is one section, closed, its
 start moved to the point nearest the previous loop's end (short links). CC points lie on
-the surface above the loops (the XY offsets mapped back to (u, v)).
+the surface above the loops (the XY offsets mapped back to (u, v)). ``link: spiral`` cuts
+every run of offsets that stay one loop as one spiral (:func:`spiral`) instead of closed
+loops linked across.
 """
 
 from __future__ import annotations
@@ -20,7 +22,7 @@ from ..curves import Piece
 from .base import CurveStrategy
 from .offsets import cross_width, pass_frame
 
-__all__ = ["Contour", "zone_polygon", "contour_loops"]
+__all__ = ["Contour", "zone_polygon", "contour_loops", "spiral"]
 
 
 def zone_polygon(surface, labels, z, n_side: int = 256):
@@ -110,11 +112,61 @@ def contour_loops(planner, layout, z, cutter, h_c, lead_tilt=None, ds=0.5, max_l
     return out
 
 
+def spiral(loops):
+    """The nested loops of one offset chain (each a single closed :class:`Piece`, outside
+    in, each starting at the point nearest the previous one's end) as ONE piece: the outer
+    loop whole, then from each loop to the next the blend (1 - tau) loop_k(tau) +
+    tau loop_k+1(tau) over the loops' normalized arc length tau (in (u, v); both start at
+    tau = 0 and close at tau = 1, so each blend ends where the next begins), then the inner
+    loop whole. The tool never leaves the surface between loops; the distance between
+    turns is a blend of the loops' own spacings."""
+    def at(pc, tau):
+        d = np.linalg.norm(np.diff(pc.uv, axis=0), axis=1)
+        arc = np.r_[0.0, np.cumsum(d)]
+        arc /= max(arc[-1], 1e-300)
+        return (np.column_stack([np.interp(tau, arc, pc.uv[:, k]) for k in range(2)]),
+                np.column_stack([np.interp(tau, arc, pc.cross[:, k]) for k in range(3)]),
+                np.interp(tau, arc, pc.gap))
+
+    first, last = loops[0], loops[-1]
+    uv, cross, gap = [first.uv], [first.cross], [first.gap]
+    for a, b in zip(loops[:-1], loops[1:]):
+        tau = np.linspace(0.0, 1.0, max(len(a.uv), len(b.uv)))[1:]
+        (ua, ca, ga), (ub, cb, gb) = at(a, tau), at(b, tau)
+        uv.append((1 - tau)[:, None] * ua + tau[:, None] * ub)
+        cross.append((1 - tau)[:, None] * ca + tau[:, None] * cb)
+        gap.append((1 - tau) * ga + tau * gb)
+    uv.append(last.uv[1:])
+    cross.append(last.cross[1:])
+    gap.append(last.gap[1:])
+    return Piece(np.concatenate(uv), np.concatenate(cross), np.concatenate(gap), first.zone,
+                 first.pass_k, first.alpha)
+
+
 class Contour(CurveStrategy):
     name = "contour"
-    KEYS = {"resample": 0.5}
+    KEYS = {"resample": 0.5, "link": "loops"}
+
+    def __init__(self, settings=None, key="strategy"):
+        super().__init__(settings, key)
+        if self.settings["link"] not in ("loops", "spiral"):
+            raise ValueError(f"{key}.link: expected loops or spiral, got "
+                             f"{self.settings['link']!r}")
 
     def zone_passes(self, planner, layout, z, cutter, lead_tilt):
         loops = contour_loops(planner, layout, z, cutter, planner.h_c, lead_tilt,
                               float(self.settings["resample"]))
-        return [pc for pieces in loops for pc in pieces]  # every loop the same way round
+        if self.settings["link"] == "loops":
+            return [pc for pieces in loops for pc in pieces]  # every loop the same way round
+        out, chain = [], []
+        for pieces in loops:  # a spiral through every run of offsets that stay one loop
+            if len(pieces) == 1:
+                chain.append(pieces[0])
+                continue
+            if chain:
+                out.append(spiral(chain))
+                chain = []
+            out.extend(pieces)
+        if chain:
+            out.append(spiral(chain))
+        return out
