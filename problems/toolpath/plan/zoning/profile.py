@@ -156,7 +156,7 @@ class SideTable:
                                 self._lookup(hm, tm, np.full(len(hm), -self.beta_0)))
         return x
 
-    def width(self, t_z, beta, kappa, iterations: int = 18) -> np.ndarray:
+    def width(self, t_z, beta, kappa, iterations: int = 30) -> np.ndarray:
         """Half-width (mm, along the surface across the feed) where the cusp is h_c on the
         +b side of a contact with feed |t_z|, section slope beta (signed, the +b side)
         and curvature kappa across the feed, as an arc on the surface; heights past ``h_top`` (a concave section
