@@ -29,6 +29,7 @@ SCHEDULER_TIMEOUT = 5.0  # seconds to reach a scheduler, and to see its first wo
 POLL = 0.01  # seconds between looks at a wave's futures
 NO_WORKERS_TIMEOUT = 60.0  # seconds a cluster may have no worker before a study gives up
 START_SLACK = 1.0  # seconds a task may take to reach a (restarted) worker, beyond its timeout
+RESUME = "finished work is kept (run the same command again to resume)"
 SCATTER_TRIES = 5  # broadcasts tried while workers are being replaced, before sending to one worker
 
 
@@ -111,6 +112,10 @@ def worker_slots(client) -> int:
     return int(sum(client.nthreads().values()))
 
 
+def _no_workers() -> EvoplanError:
+    return EvoplanError(f"dask: the cluster has had no workers for {NO_WORKERS_TIMEOUT:g} s; {RESUME}")
+
+
 class DaskPool:
     """Dask distributed: a local cluster of ``workers`` processes, or the scheduler at an address."""
 
@@ -166,14 +171,9 @@ class DaskPool:
                 alone_since = None
             else:
                 alone_since = alone_since or time.monotonic()
-                if self.cluster is not None:
-                    try:
-                        self.cluster.scale(self.size)
-                    except Exception:  # noqa: BLE001 - the error below says what matters
-                        pass
+                self._scale_up()
                 if time.monotonic() - alone_since > NO_WORKERS_TIMEOUT:
-                    raise EvoplanError(f"dask: the cluster has had no workers for {NO_WORKERS_TIMEOUT:g} s; "
-                                       "finished work is kept (run the same command again to resume)")
+                    raise _no_workers()
             time.sleep(10 * POLL)
 
     def bind(self, obj: Callable) -> list:
@@ -191,23 +191,25 @@ class DaskPool:
                 return self.client.scatter(obj, broadcast=attempt < SCATTER_TRIES, hash=False)
             except (ValueError, OSError, RuntimeError):  # CommClosedError is an OSError
                 time.sleep(POLL * (attempt + 1))
-        raise EvoplanError("dask: the problem could not be sent to the workers (they kept leaving); "
-                           "finished work is kept (run the same command again to resume)")
+        raise EvoplanError(f"dask: the problem could not be sent to the workers (they kept leaving); {RESUME}")
 
     def _await_a_worker(self) -> None:
         """Return once the cluster has a worker; a one-line error after ``NO_WORKERS_TIMEOUT``."""
         if self.client.nthreads():
             return
-        if self.cluster is not None:
-            try:
-                self.cluster.scale(self.size)
-            except Exception:  # noqa: BLE001 - the error below says what matters
-                pass
+        self._scale_up()
         try:
             self.client.wait_for_workers(1, timeout=NO_WORKERS_TIMEOUT)
         except (TimeoutError, OSError) as e:
-            raise EvoplanError(f"dask: the cluster has had no workers for {NO_WORKERS_TIMEOUT:g} s; "
-                               "finished work is kept (run the same command again to resume)") from e
+            raise _no_workers() from e
+
+    def _scale_up(self) -> None:
+        """Ask a local cluster whose nannies gave up restarting workers for its size again."""
+        if self.cluster is not None:
+            try:
+                self.cluster.scale(self.size)
+            except Exception:  # noqa: BLE001 - the caller's error says what matters
+                pass
 
     def call(self, handle: list, chunks: list) -> list:
         """One outcome per chunk (its result, or the exception it ended with), in waves of at

@@ -28,7 +28,7 @@ from evoplan.problems.toolpath.cutters import make_cutter
 from evoplan.problems.toolpath.export.toolpath import Tool
 from evoplan.problems.toolpath.geometry.spec import parse_surface
 from evoplan.problems.toolpath.roughing.operations import block_stock, roughing
-from outputs import add_report_options, resolve_report_paths  # runs/reproduce/outputs.py
+from outputs import add_report_options, resolve_report_paths, write_report  # runs/reproduce/outputs.py
 
 RUNS = Path(__file__).resolve().parent.parent
 CASES = {"abbas_gentle": "one", "abbas_narrow_z": "two", "abbas_wide_z": "three"}
@@ -132,9 +132,7 @@ def main():
             print(f"{case:16s} {r['method']:14s} kin {r['kinematic_min']:7.2f} min  NC {r['nc_bytes']:7d} B "
                   f"(lines {r['nc_lines_bytes']:7d} B, {r['arcs']} arcs)  max depth {r['max_depth']:.3f}", flush=True)
     text = report(rows)
-    Path(args.out).write_text(text)
-    print(text)
-    print(f"wrote {args.out}")
+    write_report(args, text)
 
 
 if __name__ == "__main__":

@@ -19,7 +19,6 @@ from __future__ import annotations
 
 import argparse
 import time
-from pathlib import Path
 
 import numpy as np
 from evoplan.problems.toolpath.criteria.analytic import analytic_criteria
@@ -31,7 +30,7 @@ from evoplan.problems.toolpath.simulation import design_grid, simulate
 from evoplan.problems.toolpath.simulation.metrics import VERDICT_GRIDS_MM, verdicts
 from evoplan.problems.toolpath.tools import parse_tools
 from evoplan.problems.toolpath.zoned import CHOI_TOOLS
-from outputs import add_report_options, resolve_report_paths  # runs/reproduce/outputs.py
+from outputs import add_report_options, resolve_report_paths, write_report  # runs/reproduce/outputs.py
 
 H_C, DELTA_L, STEP, TOL, ALLOWANCE = 0.254, 40.0, 1.0, 0.01, 0.5
 PUBLISHED = "1717 mm (Choi, ball, iso-scallop), 1183 mm (Djebali, AMAS, torus r 1), " \
@@ -104,9 +103,7 @@ def main():
     args = ap.parse_args()
     resolve_report_paths(args, __file__)
     text = run(args)
-    Path(args.out).write_text(text)
-    print(text)
-    print(f"wrote {args.out}")
+    write_report(args, text)
 
 
 if __name__ == "__main__":

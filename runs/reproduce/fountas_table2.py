@@ -35,7 +35,7 @@ from evoplan.problems.toolpath.criteria.objective import weighted_sum
 from evoplan.problems.toolpath.simulation import design_grid, simulate
 from evoplan.problems.toolpath.simulation.figures import deviation_map_png
 from evoplan.runner import best_record, prepare_file
-from outputs import add_report_options, resolve_report_paths  # runs/reproduce/outputs.py
+from outputs import add_report_options, resolve_report_paths, write_report  # runs/reproduce/outputs.py
 
 HERE = Path(__file__).resolve().parent
 FIGURES = {"png": "fountas_table2_zoned.png"}  # deviation map of the zoned run's best plan
@@ -319,8 +319,7 @@ def main() -> None:
     if not args.quick:
         lines += [READING]
     text = "\n".join(lines) + "\n"
-    Path(args.out).write_text(text)
-    print(text)
+    write_report(args, text)
 
 
 if __name__ == "__main__":

@@ -39,3 +39,10 @@ def resolve_report_paths(args: argparse.Namespace, script: str, figures: dict[st
     for option in figures or {}:
         if getattr(args, option):
             Path(getattr(args, option)).parent.mkdir(parents=True, exist_ok=True)
+
+
+def write_report(args: argparse.Namespace, text: str) -> None:
+    """Write the report to ``args.out`` and print it, then where it went."""
+    Path(args.out).write_text(text)
+    print(text)
+    print(f"wrote {args.out}")

@@ -24,7 +24,7 @@ import numpy as np
 from evoplan.config import load_config
 from evoplan.engine import run
 from evoplan.runner import prepare
-from outputs import add_report_options, resolve_report_paths  # runs/reproduce/outputs.py
+from outputs import add_report_options, resolve_report_paths, write_report  # runs/reproduce/outputs.py
 
 RUNS = Path(__file__).resolve().parents[1]
 
@@ -90,9 +90,7 @@ def main() -> None:
     text = "\n".join(["# VEGA's evaluation budget on Kubota's function", "",
                       f"`python runs/reproduce/vega_budget.py --seeds {args.seeds}`", ""]
                      + saving(seeds) + cap_check(seeds))
-    Path(args.out).write_text(text)
-    print(f"wrote {args.out}")
-    print(text)
+    write_report(args, text)
 
 
 if __name__ == "__main__":

@@ -33,7 +33,7 @@ from evoplan.study.config import load_study
 from evoplan.study.curves import DEFAULT_TARGETS, reference_values, runtimes, step_history
 from evoplan.study.report import markdown_table
 from evoplan.study.runner import run_study
-from outputs import add_report_options, resolve_report_paths  # runs/reproduce/outputs.py
+from outputs import add_report_options, resolve_report_paths, write_report  # runs/reproduce/outputs.py
 
 RUNS = Path(__file__).resolve().parents[1]
 # Regions of practical equivalence of the Bayesian test, fixed before the runs: on Kubota every
@@ -139,9 +139,7 @@ def main() -> None:
         lines += one("Fountas Table 1 (one factor at a time, 50 generations)", RUNS / "fountas_viral_parameters.yaml",
                      root / "fountas_viral_parameters", args, KUBOTA_ROPE)
     text = "\n".join(lines) + "\n"
-    Path(args.out).write_text(text)
-    print(f"wrote {args.out}")
-    print(text)
+    write_report(args, text)
 
 
 if __name__ == "__main__":
