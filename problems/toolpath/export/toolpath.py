@@ -143,26 +143,16 @@ class Toolpath:
 
 def drop_collinear(points: np.ndarray, tol: float) -> np.ndarray:
     """Mask (n,) of the points of a polyline to keep so that every dropped point lies within
-    ``tol`` of the chord between the kept points around it (greedy, ends kept)."""
+    ``tol`` of the segment between the kept points around it (ends kept): the line blocks of
+    ``arcs.fit_blocks``. The distance is to the segment, not to its line, so a reversal along
+    a line (there and back) keeps its turning point."""
+    from .arcs import fit_blocks
+
     points = np.asarray(points, float)
-    n = len(points)
-    keep = np.zeros(n, bool)
-    if n == 0:
+    keep = np.zeros(len(points), bool)
+    if len(points) < 3:
+        keep[:] = True
         return keep
-    keep[[0, -1]] = True
-    a = 0
-    while a < n - 1:
-        b = a + 2
-        while b < n:
-            chord = points[b] - points[a]
-            w = points[a + 1:b] - points[a]
-            ln = np.linalg.norm(chord)
-            if ln == 0:
-                break
-            dist = np.linalg.norm(np.cross(w, chord / ln), axis=1)
-            if dist.max() > tol:
-                break
-            b += 1
-        a = b - 1
-        keep[a] = True
+    keep[0] = True
+    keep[fit_blocks(points, tol, arcs=False).end] = True
     return keep

@@ -11,7 +11,7 @@ from evoplan.problems.toolpath.cutters import make_cutter
 from evoplan.problems.toolpath.export.arcs import PLANES, arc_points, fit_blocks, segment_distance
 from evoplan.problems.toolpath.export.gcode_read import read_gcode
 from evoplan.problems.toolpath.export.posts import POSTS, Machine
-from evoplan.problems.toolpath.export.toolpath import Tool, Toolpath
+from evoplan.problems.toolpath.export.toolpath import Tool, Toolpath, drop_collinear
 
 TOL = 0.01
 
@@ -88,6 +88,21 @@ def test_lines_merge_near_collinear_points_but_keep_a_reversal():
             assert segment_distance(noisy[s + 1:e], noisy[s], noisy[e]).max() <= TOL
     there_and_back = np.array([[0, 0, 0], [10, 0, 0], [20, 0, 0], [5, 0, 0.0]])
     assert fit_blocks(there_and_back, TOL).end.tolist() == [2, 3]  # the turn at x = 20 is kept
+
+
+def test_roughing_thinning_keeps_a_reversal_along_a_line():
+    # the roughing builders' thinning measured the distance to the chord's line: the turn at
+    # x = 20 of a there-and-back move lay on that line and was dropped (the path 0 -> 5)
+    there_and_back = np.array([[0, 0, 0], [10, 0, 0], [20, 0, 0], [5, 0, 0.0]])
+    assert drop_collinear(there_and_back, TOL).tolist() == [True, False, True, True]
+    rng = np.random.default_rng(2)
+    x = np.r_[np.linspace(0, 30, 61), np.linspace(29.5, 12, 36)]  # out along X and back
+    P = np.column_stack([x, 2 * TOL * rng.uniform(-1, 1, len(x)), np.zeros(len(x))])
+    keep = np.flatnonzero(drop_collinear(P, TOL))
+    assert keep[0] == 0 and keep[-1] == len(P) - 1 and P[keep, 0].max() >= 29.9  # the far end stays
+    for s, e in zip(keep[:-1], keep[1:]):
+        if e - s > 1:
+            assert segment_distance(P[s + 1:e], P[s], P[e]).max() <= TOL
 
 
 def _toolpath():
