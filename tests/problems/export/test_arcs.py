@@ -4,12 +4,15 @@ tolerance of what is written, arcs read back by the posts' grammar, the G-code r
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pytest
 
 from evoplan.problems.toolpath.cutters import make_cutter
 from evoplan.problems.toolpath.export.arcs import PLANES, arc_points, fit_blocks, segment_distance
 from evoplan.problems.toolpath.export.gcode_read import read_gcode
+from evoplan.problems.toolpath.export.kinematics import Kinematics, Rotary
 from evoplan.problems.toolpath.export.posts import POSTS, Machine
 from evoplan.problems.toolpath.export.toolpath import Tool, Toolpath, drop_collinear
 
@@ -123,37 +126,93 @@ def _toolpath():
                     feed=800, plunge_feed=250)
 
 
-def test_iso_arcs_read_back_by_the_post_and_the_gcode_reader(tmp_path):
+def _kinematics():
+    return Kinematics("table_table", Rotary("A", "x", (-30, 110)), Rotary("C", "z", (-360, 360)), 10.0)
+
+
+ARC_DIALECTS = sorted(name for name, cls in POSTS.items() if cls.arcs)
+# how each dialect writes an arc (the plane's own word where it has one)
+ARC_LINE = {"iso": r"(G1[789] )?G[23] ", "fanuc": r"(G1[789] )?G[23] ", "siemens": r"(G1[789] )?G[23] ",
+            "heidenhain": r"\d+ C [XYZ][+-][\d.]+ [XYZ][+-][\d.]+ DR[+-]"}
+
+
+def test_every_dialect_with_circular_interpolation_writes_arcs():
+    assert ARC_DIALECTS == ["fanuc", "heidenhain", "iso", "siemens"] and set(ARC_LINE) == set(ARC_DIALECTS)
+
+
+@pytest.mark.parametrize("name", ARC_DIALECTS)
+def test_arcs_read_back_within_the_tolerance_in_every_dialect(name, tmp_path):
     tp = _toolpath()
-    plain = POSTS["iso"](Machine()).program(tp)
-    post = POSTS["iso"](Machine(tolerance=TOL))
+    k = _kinematics() if POSTS[name].five_axis else None
+    plain = POSTS[name](Machine(k)).program(tp)
+    post = POSTS[name](Machine(k, tolerance=TOL))
     text = post.program(tp)
-    assert "G2 " in text or "G3 " in text
-    assert "G18 G" in text and "G17 G" in text  # the plane changes and back
-    assert len(text) < 0.3 * len(plain)
+    arc_lines = [line for line in text.splitlines() if re.match(ARC_LINE[name], line)]
+    assert len(arc_lines) >= 4
+    if name == "heidenhain":  # the centre before its arcs, in the plane the arc's words name
+        assert re.search(r"CC X[+-][\d.]+ Z[+-][\d.]+\n\d+ C X[+-][\d.]+ Z[+-][\d.]+ DR[+-]", text)
+        assert not re.search(r"\bG[23]\b|\bI[+-]?\d", text)
+    else:
+        assert "G18 G" in text and "G17 G" in text  # the plane changes and back
+    assert len(text) < 0.35 * len(plain)
     cut = ~tp.rapid
     (tmp_path / "p.nc").write_text(text)
-    for got in (post.read(text).tip, read_gcode(tmp_path / "p.nc", make_cutter(12, 0)).tip):
-        got = got[np.isfinite(got).all(axis=1)]  # the header's G43 Z move has no X Y yet
+    readers = [post.read(text).tip]
+    if name in ("iso", "fanuc"):  # the ISO/Fanuc G-code reader takes these dialects
+        readers.append(read_gcode(tmp_path / "p.nc", make_cutter(12, 0), k).tip)
+    for got in readers:
+        got = got[np.isfinite(got).all(axis=1)]  # the header's Z move has no X Y yet
         # every cutting point of the toolpath within TOL of the program read back, and back
         assert _polyline_distance(tp.tip[cut], got).max() <= TOL + 2e-3
         inside = got[(got[:, 2] < 5) & (got[:, 1] > -39)]  # the G17 curve's points as read
         assert _polyline_distance(inside, tp.tip[1:len(_curve("17")) + 1]).max() <= TOL + 1e-4
-    # the feed words survive: cutting at 800, plunges at 250
-    g = read_gcode(tmp_path / "p.nc", make_cutter(12, 0))
-    assert set(np.unique(g.feed[~g.rapid])) == {250.0, 800.0}
+    feeds = post.read(text).feed
+    assert set(np.unique(feeds[np.isfinite(feeds)])) == {250.0, 800.0}  # cutting at 800, plunges at 250
+    if name in ("iso", "fanuc"):
+        g = read_gcode(tmp_path / "p.nc", make_cutter(12, 0), k)
+        assert set(np.unique(g.feed[~g.rapid])) == {250.0, 800.0}
 
 
-def test_pygcode_parses_every_arc_line():
+def test_arcs_only_where_the_rotaries_hold_still():
+    # a 5-axis finish whose rotaries move: linear blocks only, even with a tolerance (G43.4
+    # circular interpolation needs the table axes held, FANUC A-79348E)
+    m = 60
+    phi = np.linspace(0, np.pi, m)
+    axis = np.column_stack([0.3 * np.cos(phi), 0.3 * np.sin(phi), np.full(m, np.sqrt(1 - 0.09))])
+    t = np.linspace(0, np.pi, m)
+    tip = np.column_stack([20 * np.cos(t), 20 * np.sin(t), np.zeros(m)])  # a circle a fit would take
+    tool = Tool(3, make_cutter(12, 6), 9000)
+    turning = Toolpath.from_passes("f", tool, tip, axis, np.zeros(m, int), feed=1000)
+    held = Toolpath.from_passes("f", tool, tip, np.tile([0, 0, 1.0], (m, 1)), np.zeros(m, int), feed=1000)
+    for name in ("fanuc", "heidenhain", "siemens"):
+        post = POSTS[name](Machine(_kinematics(), tolerance=TOL))
+        assert not any(re.match(ARC_LINE[name], line) for line in post.program(turning).splitlines()), name
+        assert any(re.match(ARC_LINE[name], line) for line in post.program(held).splitlines()), name
+
+
+@pytest.mark.parametrize("text,message", [
+    ("0 BEGIN PGM P MM\n1 L X+0 Y+0 Z+0 R0 F100\n2 C X+1 Y+1 DR+\n", "before any circle centre CC"),
+    ("0 BEGIN PGM P MM\n1 L X+0 Y+0 Z+0 R0 F100\n2 CC X+1 Z+0\n3 C X+2 Y+0 DR+\n", "C in XY, the centre CC in XZ"),
+    ("0 BEGIN PGM P MM\n1 L X+0 Y+0 Z+0 R0 F100\n2 CC X+1 Y+0\n3 C X+5 Y+0 DR+\n", "not the radius"),
+    ("0 BEGIN PGM P MM\n1 L X+0 Y+0 Z+0 R0 F100\n2 CC X+1 Y+0\n3 C X+2 Y+0 DR\n", "not a C X.. Y.. DR+/-"),
+])
+def test_heidenhain_reader_refuses_a_bad_circle(text, message):
+    with pytest.raises(ValueError, match=re.escape(message)):
+        POSTS["heidenhain"](Machine(_kinematics())).read(text)
+
+
+@pytest.mark.parametrize("name", ["iso", "fanuc"])
+def test_pygcode_parses_every_arc_line(name):
     pygcode = pytest.importorskip("pygcode")
-    text = POSTS["iso"](Machine(tolerance=TOL)).program(_toolpath())
+    k = _kinematics() if POSTS[name].five_axis else None
+    text = POSTS[name](Machine(k, tolerance=TOL)).program(_toolpath())
     arcs = 0
     for line in text.splitlines():
         if line.strip() in ("%", ""):
             continue
         parsed = pygcode.Line(line)
         arcs += any(type(g).__name__.startswith("GCodeArcMove") for g in parsed.block.gcodes)
-    assert arcs >= 2
+    assert arcs >= 4
 
 
 def test_simulate_nc_reads_the_arcs(tmp_path, capsys):

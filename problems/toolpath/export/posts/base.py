@@ -15,8 +15,9 @@ malformed or foreign line into an error, which is what the round-trip tests need
 A dialect subclasses :class:`Post`, sets ``name``/``five_axis``, writes ``header``,
 ``block`` and ``footer``, and parses its own lines in ``parse_line``; ``@register`` adds it
 to ``POSTS``. A dialect that has circular interpolation declares ``arcs = True``: with a
-machine ``tolerance``, its programs then carry ``G2`` / ``G3`` arcs fitted within that chord
-tolerance (``export/arcs.py``). Any post, given a ``tolerance``, merges collinear and
+machine ``tolerance``, its programs then carry arcs fitted within that chord tolerance
+(``export/arcs.py``), written by ``arc_lines`` (``G2`` / ``G3`` with ``I J K`` by default; a
+dialect with another syntax overrides it and reads it back in ``parse_line``). Any post, given a ``tolerance``, merges collinear and
 near-collinear cutting points within it (5-axis posts only where the rotaries hold still,
 which a 3-axis roughing path does).
 """
@@ -191,7 +192,7 @@ class Post:
             if red is not None and not red.keep[n]:
                 continue
             if red is not None and red.motion[n] >= 2:
-                lines.append(self._arc_block(mv, red, prev, n, last))
+                lines += self._arc_block(mv, red, prev, n, last)
                 prev = n
                 continue
             prev = n
@@ -211,28 +212,37 @@ class Post:
         lines += self.footer(tp, name.upper())
         return "\n".join(lines) + "\n"
 
-    def _arc_block(self, mv: Moves, red, start: int, n: int, last: dict) -> str:
-        """A G2 / G3 block from point ``start`` to point ``n`` (both in-plane coordinates and
-        the centre words I J K incremental from the start; the plane word when it changes)."""
+    def _arc_block(self, mv: Moves, red, start: int, n: int, last: dict) -> list[str]:
+        """The lines of the arc from point ``start`` to point ``n`` (``arc_lines``); the arc is
+        planar (``arcs.fit_blocks``: the normal coordinate is the start's within 1e-7 mm), so
+        only its two in-plane end coordinates are written."""
         from ..arcs import PLANES
 
         plane = red.plane[n]
-        a, b, c = PLANES[plane]
-        motion = f"G{int(red.motion[n])}"
+        a, b, _ = PLANES[plane]
         p, q, centre = mv.tip[start], mv.tip[n], red.centre[n]
-        words = {"XYZ"[a]: fmt(q[a]), "XYZ"[b]: fmt(q[b])}
-        if last.get("XYZ"[c]) != fmt(q[c]):
-            words["XYZ"[c]] = fmt(q[c])
-        words["IJK"[a]] = fmt(centre[a] - p[a])
-        words["IJK"[b]] = fmt(centre[b] - p[b])
+        end = {"XYZ"[a]: fmt(q[a]), "XYZ"[b]: fmt(q[b])}
         feed = fmt(mv.feed[n], 1)
         if last.get("F") == feed:
             feed = None
-        head = motion if plane == last["plane"] else f"G{plane} {motion}"
-        line = self.block(head, words, feed, True)
-        last.update({k: v for k, v in words.items() if k in "XYZ"}, G=motion, plane=plane,
-                    **({"F": feed} if feed is not None else {}))
-        return line
+        lines = self.arc_lines(plane, int(red.motion[n]) == 2, end, p, centre, feed, last)
+        last.update(end, G=f"G{int(red.motion[n])}", plane=plane, **({"F": feed} if feed is not None else {}))
+        return lines
+
+    def arc_lines(self, plane: str, clockwise: bool, end: dict[str, str], start, centre, feed: str | None,
+                  last: dict) -> list[str]:
+        """An arc in word-address G-code (ISO 6983; Fanuc, Siemens): ``G2`` / ``G3`` (with
+        the plane word ``G17`` / ``G18`` / ``G19`` when it differs from ``last["plane"]``,
+        the modal words written so far), the end point's two in-plane coordinates and the
+        centre ``I J K`` incremental from the start."""
+        from ..arcs import PLANES
+
+        a, b, _ = PLANES[plane]
+        words = dict(end)
+        words["IJK"[a]] = fmt(centre[a] - start[a])
+        words["IJK"[b]] = fmt(centre[b] - start[b])
+        motion = "G2" if clockwise else "G3"
+        return [self.block(motion if plane == last["plane"] else f"G{plane} {motion}", words, feed, True)]
 
     def header(self, tp: Toolpath, name: str, mv: Moves) -> list[str]:  # pragma: no cover - abstract
         raise NotImplementedError

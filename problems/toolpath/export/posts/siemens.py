@@ -4,6 +4,13 @@ Program: ``;`` comments, ``G17 G90 G71`` (metric), work offset, ``T n`` ``M6`` `
 ``S n M3``, ``M8``, the rotaries set, then ``TRAORI`` (5-axis transformation: X Y Z are the
 tool tip in the part frame) with ``ORIAXES`` (the rotary axes interpolated linearly), the
 moves (G0/G1, modal F), ``TRAFOOF``, ``M9``, ``M5``, ``M30``.
+
+Arcs (with a machine tolerance, in a program whose rotaries never move): ``G2`` / ``G3`` in
+``G17`` / ``G18`` / ``G19``, the end point's two in-plane coordinates and the centre ``I J K``
+incremental from the start (Siemens' default for I J K; ``I=AC(..)`` would be absolute), the
+direction seen from the positive axis normal to the plane, as in the SINUMERIK 840D sl
+Programming Manual Fundamentals ("Circular interpolation with center point and end point").
+The radius form ``CR=`` is not written (it is ambiguous at 180 degrees).
 """
 
 from __future__ import annotations
@@ -17,6 +24,7 @@ class SiemensPost(Post):
     name = "siemens"
     five_axis = True
     extension = ".mpf"
+    arcs = True  # G2 / G3 with I J K in G17 / G18 / G19 (with a machine tolerance)
     keywords = frozenset({"TRAORI", "TRAFOOF", "ORIAXES"})
     g_codes = Post.g_codes | {"71"}
 
