@@ -191,10 +191,11 @@ def test_evaluate_prints_one_parameter_set(tmp_path):
         assert len(proc.stderr.strip().splitlines()) == 1
 
 
-HEAVY = ("numba", "scipy.interpolate", "evoplan.problems.toolpath", "matplotlib", "pandas")
+HEAVY = ("numba", "scipy.interpolate", "sklearn", "evoplan.problems.toolpath", "matplotlib", "pandas")
 
 
-@pytest.mark.parametrize("words", [[], ["run"], ["study"], ["evaluate"], ["simulate"], ["examples"]])
+@pytest.mark.parametrize("words", [[], ["run"], ["study"], ["evaluate"], ["simulate"], ["examples"],
+                                   ["zone"], ["machine"], ["report"]])
 def test_help_loads_no_heavy_module(words):
     """``evoplan [COMMAND] --help`` builds only the parser it shows: the toolpath engine, numba and
     scipy are not imported (the parser of every other command is a placeholder)."""
@@ -207,6 +208,21 @@ def test_help_loads_no_heavy_module(words):
     loaded, commands = r.stdout.splitlines()
     assert loaded == ""
     assert commands.split() == list(COMMANDS)
+
+
+def test_zone_and_machine_help_build_no_pydantic_model():
+    code = "import sys\nfrom evoplan.cli import build_parser\nbuild_parser(['zone']); build_parser(['machine'])\n" \
+           "print('pydantic' in sys.modules)"
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
+    assert r.returncode == 0 and r.stdout.strip() == "False", r.stderr
+
+
+def test_the_names_zone_help_lists_are_the_registered_ones():
+    from evoplan.commands.zone import STRATEGY_NAMES, ZONING_METHODS
+    from evoplan.problems.toolpath.plan.strategies import STRATEGIES
+    from evoplan.problems.toolpath.plan.zoning.methods import REGISTRY
+
+    assert ZONING_METHODS == tuple(REGISTRY) and STRATEGY_NAMES == tuple(STRATEGIES)
 
 
 def test_every_command_is_listed_and_runs_with_its_own_options(capsys):

@@ -36,7 +36,7 @@ def _validate_study(data, source):
 
 
 def _validate_machine(data, source):
-    from evoplan.commands.machine import MachineConfig
+    from evoplan.commands.machine_config import MachineConfig
 
     MachineConfig.model_validate(data)
 

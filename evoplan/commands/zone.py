@@ -25,57 +25,19 @@ import io
 import json
 import time
 from pathlib import Path
-from typing import Any, Literal
+from typing import TYPE_CHECKING, Any
 
-from pydantic import Field, ValidationError, create_model, field_validator
-
-from ..config import SafeName, _Strict, format_validation_error, read_yaml
-from ..folder_writer import check_out, write_folder
 from ..errors import ConfigError
-from ..limits import mesh_bytes, require
-from ..problems.toolpath.plan.zoning.merge import MergeSettings
-from ..problems.toolpath.plan.zoning.methods import REGISTRY
+from ..folder_writer import check_out, write_folder
 from . import COMMANDS
 
+if TYPE_CHECKING:
+    from .zone_config import ZoneBase
 
-class CutterConfig(_Strict):
-    R: float = 3.175
-    r: float = 1.0
-
-
-class ZoneBase(_Strict):
-    name: SafeName = "zoning"
-    surface: Any = "choi"
-    cutter: CutterConfig = Field(default_factory=CutterConfig)
-    h_c: float = 0.254
-    delta_l: float = 40.0
-    mesh: list[int] = Field(default_factory=lambda: [70, 70], min_length=2, max_length=2)
-    method: str = Field("amas", description="a registered zoning method: single, kmeans, amas")
-    seed: int = 0
-    merge: MergeSettings = Field(default_factory=MergeSettings)
-    stepover_model: Literal["profile", "circle"] = "profile"
-    sample_spacing: float = Field(0.25, gt=0)
-    direction_scan: int = Field(12, ge=1)
-    step: float = Field(1.0, gt=0, description="largest distance between CC points (mm)")
-    strategy: Any = Field("parallel", description="the pass layout: a registered strategy "
-                          "name (parallel, isoscallop, contour, isoparametric) or {name, ...settings}")
-
-    @field_validator("method")
-    @classmethod
-    def _registered(cls, v: str) -> str:
-        if v not in REGISTRY:
-            raise ValueError(f"expected one of {', '.join(REGISTRY)}")
-        return v
-
-
-def zone_config_model() -> type[ZoneBase]:
-    """The zoning-file model: ``ZoneBase`` plus one settings group per registered method."""
-    groups = {name: (m.Settings, Field(default_factory=m.Settings, description=m.description))
-              for name, m in REGISTRY.items()}
-    return create_model("ZoneConfig", __base__=ZoneBase, **groups)
-
-
-ZoneConfig = zone_config_model()  # the built-in methods' model (docs/zoning.md lists its keys)
+# the registered zoning methods, named without importing the registry (scipy, scikit-learn,
+# numba) so that ``evoplan zone --help`` starts at once; a test checks them against it
+ZONING_METHODS = ("single", "kmeans", "amas")
+STRATEGY_NAMES = ("parallel", "isoscallop", "contour", "isoparametric")
 
 
 def add_parser(sub) -> argparse.ArgumentParser:
@@ -83,9 +45,9 @@ def add_parser(sub) -> argparse.ArgumentParser:
     p.add_argument("config", help="YAML zoning file (e.g. runs/choi_zoning.yaml)")
     p.add_argument("--out", help="results folder (default: results/<name>-<time>)")
     p.add_argument("--method", metavar="NAME",
-                   help=f"override the method (registered: {', '.join(REGISTRY)})")
+                   help=f"override the method (registered: {', '.join(ZONING_METHODS)})")
     p.add_argument("--strategy", metavar="NAME",
-                   help="override the pass layout (parallel, isoscallop, contour, isoparametric)")
+                   help=f"override the pass layout ({', '.join(STRATEGY_NAMES)})")
     p.add_argument("--quiet", action="store_true", help="no progress line")
     return p
 
@@ -93,6 +55,12 @@ def add_parser(sub) -> argparse.ArgumentParser:
 def load(path: str, method: str | None = None, strategy: str | None = None) -> ZoneBase:
     """The validated zoning file (``method`` / ``strategy``: the --method / --strategy
     overrides); ConfigError."""
+    from pydantic import ValidationError
+
+    from ..config import format_validation_error, read_yaml
+    from ..limits import mesh_bytes, require
+    from .zone_config import zone_config_model
+
     data = read_yaml(path)
     data.setdefault("name", Path(path).stem)
     if method is not None:
@@ -117,6 +85,7 @@ def build_plan(cfg: ZoneBase, base_dir: Path, progress=None):
     from ..problems.toolpath.geometry.spec import parse_surface
     from ..problems.toolpath.plan.planner import Planner
     from ..problems.toolpath.plan.zones import ZoningSpec
+    from ..problems.toolpath.plan.zoning.methods import REGISTRY
     from ..problems.toolpath.plan.zoning.stepover import ScallopTarget
     from ..problems.toolpath.tools import parse_tools
 
