@@ -225,7 +225,9 @@ def settle(state: RunState, pending: Pending, result: Evaluation | None) -> np.n
     the cache, failures, hits and charged evaluations counted, the best and its improvements kept.
 
     Rows are charged in batch order, so the k-th charged row is evaluation ``k`` of the run:
-    the index ``improvements`` records (first-hit runtimes at evaluation granularity).
+    the index ``improvements`` records (first-hit runtimes at evaluation granularity). A row
+    charges what its evaluation says it cost (``Evaluation.cost``: a screened toolpath plan 0,
+    a simulated one 1, so the budget counts simulations), else 1.
     """
     G, keys, f, first, todo = pending.G, pending.keys, pending.f, pending.first, pending.todo
     n = len(G)
@@ -237,15 +239,15 @@ def settle(state: RunState, pending: Pending, result: Evaluation | None) -> np.n
             cache.store(keys[todo], result.f, fresh=True)
     repeat = np.isnan(f)  # a row repeated inside the batch takes its first occurrence's value
     f[repeat] = f[first[repeat]]
-    charged = np.zeros(n, dtype=bool)
-    charged[todo] = True
+    charged = np.zeros(n, dtype=np.int64)  # what each row costs the budget
+    charged[todo] = 1 if result is None or result.cost is None else result.cost
     hits = n - todo.size
     if cache is not None:
         cache.hits += hits
         cache.misses += todo.size
         state.cache_hits += hits
         if cache.charge_hits:
-            charged[:] = True
+            charged[:] = 1
     if n and f.min() < state.best_f:  # improvements (rare): the evaluation number of each
         index = state.evaluations + np.cumsum(charged)
         previous = np.minimum.accumulate(np.concatenate([[state.best_f], f]))[:-1]
@@ -253,7 +255,7 @@ def settle(state: RunState, pending: Pending, result: Evaluation | None) -> np.n
             state.improvements.append((int(index[i]), float(f[i])))
         i = int(np.argmin(f))
         state.best_f, state.best_g = float(f[i]), G[i].copy()
-    state.evaluations += int(np.count_nonzero(charged))
+    state.evaluations += int(charged.sum())
     return f
 
 

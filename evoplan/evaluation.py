@@ -32,6 +32,9 @@ class Evaluation:
     # a constrained problem's objective before the penalty and pymoo CV, (n,) each; NaN: raised
     raw: np.ndarray | None = None
     cv: np.ndarray | None = None
+    # what each row cost the budget (a problem's ``out["cost"]``: a screened toolpath plan 0,
+    # a simulated one 1); None: one evaluation each
+    cost: np.ndarray | None = None
 
 
 def stack_column(parts: list["Evaluation"], name: str) -> np.ndarray | None:
@@ -131,25 +134,34 @@ class Evaluator:
 
     def _values(self, X: np.ndarray) -> tuple[np.ndarray, np.ndarray | None, np.ndarray | None]:
         """The objective values of ``X`` (penalized), and for a constrained problem the values
-        before the penalty and pymoo's ``CV`` (else None, None)."""
+        before the penalty and pymoo's ``CV`` (else None, None). A problem that sets
+        ``out["cost"]`` (n,) leaves it in ``self.cost`` (else None)."""
         with time_limit(None if self.timeout is None else self.timeout * len(X)):
             out = self.problem.evaluate(X, return_as_dictionary=True)
+        cost = out.get("cost")
+        self.cost = None if cost is None else np.asarray(cost, dtype=float).reshape(len(X))
         f = np.asarray(out["F"], dtype=float).reshape(len(X), -1)[:, 0]
         if not self.constrained:
             return f, None, None
         penalized, cv = violations(self.problem, out, len(X))
         return f + self.constraint_penalty * penalized, f, cv
 
+    cost: np.ndarray | None = None
+
     def __call__(self, X: np.ndarray) -> Evaluation:
         errors: list[str] = []
+        cost = None
         try:
             f, raw, cv = self._values(X)
+            cost = self.cost
         except (Exception, SystemExit) as batch_error:  # isolate the failing rows (sys.exit too)
             if (shape := objective_shape_error(batch_error)) is not None:
                 raise shape from None  # the problem is wrong, not the individuals: stop the run
             f = np.empty(len(X))
             raw, cv = (np.full(len(X), np.nan), np.full(len(X), np.nan)) if self.constrained else (None, None)
+            costs = []
             for i, row in enumerate(X):
+                self.cost = None
                 try:
                     values = self._values(row[None, :])
                     f[i] = values[0][0]
@@ -158,11 +170,14 @@ class Evaluator:
                 except (Exception, SystemExit) as e:  # noqa: BLE001 - a black box may raise anything
                     f[i] = np.nan
                     errors.append(f"{type(e).__name__}: {e}")
+                costs.append(self.cost)
+            if any(c is not None for c in costs):  # a row that raised cost one evaluation
+                cost = np.array([1.0 if c is None else c[0] for c in costs])
             if not errors:  # the batch failed but no row did: report the batch error
                 errors.append(f"{type(batch_error).__name__}: {batch_error}")
         failed = ~np.isfinite(f)
         if not failed.any():
-            return Evaluation(f, failed, errors, raw=raw, cv=cv)
+            return Evaluation(f, failed, errors, raw=raw, cv=cv, cost=cost)
         if len(errors) < failed.sum():  # failures that raised nothing
             errors.append("the objective returned a non-finite value (NaN or inf)")
-        return Evaluation(np.where(failed, np.inf, f), failed, errors, raw=raw, cv=cv)
+        return Evaluation(np.where(failed, np.inf, f), failed, errors, raw=raw, cv=cv, cost=cost)

@@ -90,6 +90,13 @@ def prepare(config: RunConfig, source: str = "<config>", problem=None) -> Prepar
     if threads > 1 and config.evaluation.backend != "serial":
         raise ConfigError(f"{source}: problem.params.simulation.threads: {threads} threads need evaluation.backend: "
                           f"serial (the {config.evaluation.backend} backend already uses the cores)")
+    if getattr(getattr(problem, "simulated", None), "screening", None) is not None:
+        if config.evaluation.backend != "serial":  # the screen learns from every simulation of the run
+            raise ConfigError(f"{source}: problem.params.simulation.screening: needs evaluation.backend: serial "
+                              f"(use simulation.threads for the cores), not {config.evaluation.backend}")
+        if problem.n_obj != 1:
+            raise ConfigError(f"{source}: problem.params.simulation.screening: ranks plans by one objective "
+                              "(weights), not by objectives")
     t = config.termination
     prepared = Prepared(config, source, space, evaluator, Termination(t.generations, t.evaluations, t.target, t.seconds))
     if space.n_var:  # else every decision is fixed: one evaluation, no population

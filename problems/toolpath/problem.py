@@ -30,6 +30,7 @@ from .criteria.kinematic_time import parse_dynamics
 from .criteria.objective import (
     bounds_from_sample, normalize, parse_bounds, parse_objectives, parse_weights, weighted_sum,
 )
+from .criteria.table import names as criterion_names
 from .genes import DEFAULT_RANGES, GENE_ORDER, PARAM_NAMES, GeneSpace
 from .geometry.spec import parse_surface
 from .strategy import absent_genes, build_planner
@@ -190,20 +191,29 @@ class ToolpathProblem(Problem):
         return crit
 
     def _criteria_of(self, X) -> dict[str, np.ndarray]:
+        crit, genes = self.analytic(X)
+        if self.simulated is not None:
+            crit |= self.simulate_rows(genes, range(len(X)))
+        return crit
+
+    def analytic(self, X) -> tuple[dict[str, np.ndarray], dict]:
+        """(analytic criteria, decoded genes) of the rows X (checked), no simulation."""
         batch, genes = self.plan(X, place=False)
-        crit = analytic_criteria(batch, self.surface, self.tool_db, genes,
+        return analytic_criteria(batch, self.surface, self.tool_db, genes,
                                  allowance=self.allowance, feed_rate=self.feed_rate,
                                  delta_l=self.delta_l, machine=self.machine,
-                                 dynamics=self.dynamics)
-        if self.simulated is not None:
-            rows = []
-            for i, t in enumerate(genes["tool"]):
-                path = self.planner.cl_path({k: v[i:i + 1] for k, v in genes.items()},
-                                            self.feed_rate)
-                rows.append(self.simulated.measure(path, self.tool_db.cutter(int(t)).sharp_rim))
-            for name in rows[0]:
-                crit[name] = np.array([r[name] for r in rows])
-        return crit
+                                 dynamics=self.dynamics), genes
+
+    def simulate_rows(self, genes: dict, rows) -> dict[str, np.ndarray]:
+        """The simulated criteria of the given rows of decoded ``genes``: one cut simulation
+        of each row's CL path (``criteria: simulated``)."""
+        measured = []
+        for i in rows:
+            path = self.planner.cl_path({k: v[i:i + 1] for k, v in genes.items()}, self.feed_rate)
+            flat = self.tool_db.cutter(int(genes["tool"][i])).sharp_rim
+            measured.append(self.simulated.measure(path, flat))
+        return {name: np.array([m[name] for m in measured])
+                for name in criterion_names(simulated=True)}
 
     def criteria(self, X) -> dict[str, np.ndarray]:
         """Every raw criterion per row of X, plus ``objective`` (Eq. 9): dict of (n,)."""
@@ -219,6 +229,10 @@ class ToolpathProblem(Problem):
         return {k: float(v[0]) for k, v in crit.items()}
 
     def _evaluate(self, X, out, *args, **kwargs):
+        screening = getattr(self.simulated, "screening", None)
+        if screening is not None:  # criteria/screening.py: F, and the simulations each row cost
+            out["F"], out["cost"] = screening.evaluate(self, self.check(X))
+            return
         crit = self._raw_criteria(X)
         if self.objectives is None:
             out["F"] = weighted_sum(crit, self.weights, self.norm_bounds)[:, None]

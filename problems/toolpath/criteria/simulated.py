@@ -35,10 +35,12 @@ class SimulatedCriteria:
     """The cut simulation as a criteria source for a problem whose rows make CL paths.
 
     ``options``: ``grid_mm`` (0.5), ``rays`` (normal | vertical), ``allowance`` (0.5 mm),
-    ``threads`` (1: the sweep's tiles shared among that many threads, same residual).
+    ``threads`` (1: the sweep's tiles shared among that many threads, same residual),
+    ``screening`` (a mapping, ``criteria/screening.py``: only the plans the analytic criteria
+    rank most promising are simulated; absent: every plan is).
     """
 
-    KEYS = {"grid_mm", "rays", "allowance", "threads"}
+    KEYS = {"grid_mm", "rays", "allowance", "threads", "screening"}
 
     def __init__(self, surface, options: dict | None = None, key: str = "simulation"):
         options = dict(options or {})
@@ -58,6 +60,11 @@ class SimulatedCriteria:
         if isinstance(threads, bool) or not isinstance(threads, int) or threads < 1:
             raise ValueError(f"{key}.threads: expected a whole number of threads >= 1, got {threads!r}")
         self.threads = threads
+        self.screening = None
+        if options.get("screening") is not None:
+            from .screening import Screening
+
+            self.screening = Screening(options["screening"], f"{key}.screening")
         self.vertical = rays == "vertical"
         self.surface = surface
         self._grid: DesignGrid | None = None
