@@ -1,11 +1,11 @@
-"""Contour-parallel z-level roughing: every offset contour lies inside the slice, the offsets
-are step-over apart."""
+"""Contour-parallel z-level roughing: the smooth slice lies inside the cells the tool may
+reach, every offset contour lies inside the slice, the offsets are step-over apart."""
 
 import numpy as np
 from shapely.geometry import LineString
 
 from evoplan.problems.toolpath.cutters import make_cutter
-from evoplan.problems.toolpath.roughing.contour import offset_rings, slice_region
+from evoplan.problems.toolpath.roughing.contour import cell_region, offset_rings, slice_region
 from evoplan.problems.toolpath.roughing.layers import Grid
 
 
@@ -15,7 +15,11 @@ def test_offsets_lie_inside_the_slice_a_stepover_apart():
     X, Y = np.meshgrid(xs, ys)
     floor = np.where(np.hypot(X - 35, Y - 20) < 8, 10.0, 0.0)   # an island (the part) in the middle
     region = slice_region(grid, floor, 5.0)
-    assert region.area == (len(xs) * len(ys) - (floor > 5).sum()) * 0.25
+    cells = cell_region(grid, floor, 5.0)
+    assert cells.area == (len(xs) * len(ys) - (floor > 5).sum()) * 0.25
+    # the smooth slice: inside the cells, at most a cell and a half (diagonal) in from them
+    assert region.difference(cells).area < 1e-9
+    assert cells.buffer(-1.5 * 0.5 * np.sqrt(2)).difference(region).area < 1e-9
     step = 3.0
     rings = offset_rings(region, step)
     assert len(rings) >= 4
@@ -48,3 +52,32 @@ def test_contour_roughing_leaves_the_allowance_and_cuts_at_each_level(tmp_path):
     assert stats["left_min"] >= 0.8 - 0.011 and stats["rapid_volume"] == 0
     cut_z = np.unique(np.round(tp.tip[~tp.rapid & ~tp.plunge, 2], 6))
     np.testing.assert_allclose(np.sort(cut_z), np.sort(levels), atol=1e-6)
+
+
+def _turns(ring):
+    """Turning angles (deg) between consecutive segments of a closed ring."""
+    d = np.diff(ring, axis=0)
+    d = d[np.hypot(*d.T) > 1e-9]
+    a = np.arctan2(d[:, 1], d[:, 0])
+    return np.degrees(np.abs((np.diff(np.r_[a, a[:1]]) + np.pi) % (2 * np.pi) - np.pi))
+
+
+def test_the_slice_is_smooth_not_a_staircase_and_keeps_small_pockets():
+    # a cone-shaped part: F = 12 - |p - c|; the level z = 6 leaves a round hole of radius 6
+    xs, ys = np.arange(0, 40.01, 0.5), np.arange(0, 30.01, 0.5)
+    grid = Grid(xs, ys, 0.5)
+    X, Y = np.meshgrid(xs, ys)
+    floor = 12.0 - np.hypot(X - 20.2, Y - 14.9)
+    region, cells = slice_region(grid, floor, 6.0), cell_region(grid, floor, 6.0)
+    assert region.difference(cells).area < 1e-9
+    hole = np.asarray(region.interiors[0].coords)
+    r = np.hypot(hole[:, 0] - 20.2, hole[:, 1] - 14.9)
+    # the raised floor moves the boundary out by at most a cell diagonal: r in [6, 6 + 0.71]
+    assert r.min() >= 6.0 - 1e-9 and r.max() <= 6.0 + 0.5 * np.sqrt(2) + 1e-9
+    assert _turns(hole).max() < 30.0  # smooth: the cells' staircase turns by 90 degrees
+    assert _turns(np.asarray(cells.interiors[0].coords)).max() == 90.0
+    # a pocket of three cells only (the deepest level) is kept, as its cells
+    pit = np.full((len(ys), len(xs)), 10.0)
+    pit[10, 20:23] = 2.0
+    small = slice_region(grid, pit, 2.0)
+    assert small.area == 3 * 0.25 and small.equals(cell_region(grid, pit, 2.0))
