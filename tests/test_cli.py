@@ -191,7 +191,7 @@ def test_evaluate_prints_one_parameter_set(tmp_path):
         assert len(proc.stderr.strip().splitlines()) == 1
 
 
-HEAVY = ("numba", "scipy.interpolate", "sklearn", "evoplan.problems.toolpath", "matplotlib", "pandas")
+HEAVY = ("numba", "scipy.interpolate", "sklearn", "evoplan.problems.toolpath", "matplotlib", "pandas", "numpy")
 
 
 @pytest.mark.parametrize("words", [[], ["run"], ["study"], ["evaluate"], ["simulate"], ["examples"],
@@ -223,6 +223,13 @@ def test_the_names_zone_help_lists_are_the_registered_ones():
     from evoplan.problems.toolpath.plan.zoning.methods import REGISTRY
 
     assert ZONING_METHODS == tuple(REGISTRY) and STRATEGY_NAMES == tuple(STRATEGIES)
+
+
+def test_the_backends_study_help_lists_are_the_pools():
+    from evoplan.commands.study import BACKENDS
+    from evoplan.parallel import POOLS
+
+    assert BACKENDS == tuple(POOLS)
 
 
 def test_every_command_is_listed_and_runs_with_its_own_options(capsys):

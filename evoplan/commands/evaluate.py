@@ -15,14 +15,15 @@ from __future__ import annotations
 import argparse
 import json
 from pathlib import Path
-from typing import Any
-
-import numpy as np
+from typing import TYPE_CHECKING, Any
 
 from ..errors import ConfigError, EvoplanError
 from ..overrides import refuse_repeat
 from ..safe_yaml import load_text, short
 from . import COMMANDS
+
+if TYPE_CHECKING:
+    import numpy as np
 
 
 def add_parser(sub) -> argparse.ArgumentParser:
@@ -51,6 +52,8 @@ def parse_assignments(items: list[str]) -> dict[str, Any]:
 
 def phenotype(space, values: dict[str, Any]) -> np.ndarray:
     """The row ``X: (1, d)`` of named values; choices become their index. One-line errors."""
+    import numpy as np
+
     unknown = sorted(set(values) - set(space.names))
     if unknown:
         raise EvoplanError(f"--set {unknown[0]}: no such variable (the problem has {', '.join(space.names)})")
@@ -77,6 +80,8 @@ def phenotype(space, values: dict[str, Any]) -> np.ndarray:
 
 
 def main(args: argparse.Namespace) -> int:
+    import numpy as np
+
     from ..runner import prepare_file
 
     if args.post and not args.out:
@@ -162,5 +167,7 @@ def _nc_program(problem, X, post_name: str) -> bytes:
 
 
 def _plain(value: Any) -> Any:
+    import numpy as np
+
     value = np.asarray(value).item()
     return None if isinstance(value, float) and not np.isfinite(value) else value

@@ -21,8 +21,6 @@ import os
 import time
 from pathlib import Path
 
-import numpy as np
-
 from ..errors import ConfigError, EvoplanError
 from .evaluate import parse_assignments
 from . import COMMANDS
@@ -133,6 +131,7 @@ def _nc_path(args):
 
 
 def main(args: argparse.Namespace) -> int:
+    import numpy as np
     from tqdm import tqdm
 
     from ..folder_writer import check_out, write_folder
@@ -200,6 +199,8 @@ def _measure(args: argparse.Namespace, stages) -> tuple[dict, dict[str, bytes]]:
 def _deviation_npz(grid, sim, path, tolerance: float, allowance: float) -> bytes:
     """The deviation map as data for ``evoplan report`` (float32 heights and deviations, compressed)."""
     import io
+
+    import numpy as np
 
     buf = io.BytesIO()
     labels = sim.labels if sim.labels is not None else np.zeros(grid.shape, np.int16)

@@ -10,8 +10,9 @@ from pathlib import Path
 
 from ..errors import EvoplanError
 from ..overrides import add_argument
-from ..parallel import POOLS
 from . import COMMANDS
+
+BACKENDS = ("serial", "processes", "dask")  # evoplan.parallel.POOLS, named without importing it (numpy)
 
 FAILED_RUNS = 3  # exit code of a study that finished with failed runs (documented in docs/robustness.md)
 
@@ -21,7 +22,7 @@ def add_parser(sub) -> argparse.ArgumentParser:
     p.add_argument("study", help="YAML study file, e.g. runs/compare_benchmarks.yaml")
     p.add_argument("--out", help="results folder (default: results/<study name>); "
                                  "an unfinished study there is resumed")
-    p.add_argument("--backend", choices=list(POOLS), help="where the runs execute (default: serial; "
+    p.add_argument("--backend", choices=BACKENDS, help="where the runs execute (default: serial; "
                                                           "dask when --scheduler is given)")
     p.add_argument("--workers", type=int, help="worker processes (default: one per CPU)")
     p.add_argument("--scheduler", metavar="ADDRESS", help="Dask scheduler, e.g. tcp://10.0.0.5:8786 "

@@ -1,7 +1,9 @@
 """Start-up time of ``evoplan [COMMAND] --help``, each in a fresh interpreter, interleaved.
 
-Beside each, the eager baseline of the same run: a fresh interpreter that imports every
-sub-command module (what building the parser did before it became lazy) and prints the help.
+Beside them, two baselines of the same run: the interpreter alone (``python -c pass``, the
+floor), and an eager start: a fresh interpreter that imports every sub-command module with
+what their parsers used to import (the zoning and machining file models, the backends) and
+prints the help.
 
     python runs/bench/startup.py [--repeat 5]
 
@@ -20,6 +22,7 @@ from evoplan.commands import COMMANDS
 
 EAGER = ("import importlib, sys; from evoplan.commands import COMMANDS; "
          "[importlib.import_module('evoplan.commands.' + c) for c in COMMANDS]; "
+         "import evoplan.commands.zone_config, evoplan.commands.machine_config, evoplan.parallel; "
          "from evoplan.cli import main; sys.argv = ['evoplan', '--help']; main()")
 
 
@@ -36,6 +39,7 @@ def main() -> None:
     runs = {"evoplan --help": [sys.executable, "-m", "evoplan", "--help"]}
     runs |= {f"evoplan {c} --help": [sys.executable, "-m", "evoplan", c, "--help"] for c in COMMANDS}
     runs["eager baseline: every command imported, --help"] = [sys.executable, "-c", EAGER]
+    runs["floor: the interpreter alone (python -c pass)"] = [sys.executable, "-c", "pass"]
     times: dict[str, list[float]] = {k: [] for k in runs}
     for _ in range(args.repeat):
         for name, argv in runs.items():
