@@ -22,7 +22,10 @@ normal n is the support point along -n):
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
+from numba import njit
 
 from .base import CYLINDER, ROUND, Cutter, register
 from .silhouette import profile_tables, side_width_exact
@@ -111,6 +114,56 @@ class _Revolved(Cutter):
         e = np.where(norm > 1e-12, proj / np.where(norm > 1e-12, norm, 1.0), 0.0)
         r = self.corner_radius
         return r * a + self.rim_radius * e + r * d
+
+    def cc_to_tip(self, cc, normal, axis=(0.0, 0.0, 1.0)):
+        """``Cutter.cc_to_tip`` (tip = cc - S(a, -n)) in one compiled pass over the points:
+        the same operations in the same order as the numpy of ``Cutter.cc_to_tip`` and
+        :meth:`support_point`, so the same bits (``_tips``)."""
+        cc, normal = np.asarray(cc, float), np.asarray(normal, float)
+        if cc.ndim != 2 or normal.shape != cc.shape:
+            return super().cc_to_tip(cc, normal, axis)
+        axis = np.asarray(axis, float)
+        ax = np.ascontiguousarray(np.broadcast_to(axis, cc.shape) if axis.ndim == 2 else
+                                  np.broadcast_to(axis.reshape(1, 3), (1, 3)))
+        return _tips(np.ascontiguousarray(cc), np.ascontiguousarray(normal), ax,
+                     float(self.corner_radius), float(self.rim_radius))
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _norm3(x, y, z):
+    """|v| as ``np.linalg.norm(v, axis=-1)`` rounds it: sqrt((x^2 + y^2) + z^2), numpy's
+    add.reduce over a row of three, left to right."""
+    return math.sqrt((x * x + y * y) + z * z)
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _tips(cc, normal, axis, r, r0):
+    """tip = cc - (r a + r0 e + r d), d = -n (n, a normalized as Cutter.cc_to_tip does, then
+    again as support_point does), e the unit projection of d normal to a (0 if shorter than
+    1e-12); axis (k, 3) or (1, 3) shared."""
+    k = cc.shape[0]
+    out = np.empty((k, 3))
+    for i in range(k):
+        j = i if axis.shape[0] == k else 0
+        ln = _norm3(normal[i, 0], normal[i, 1], normal[i, 2])
+        n0, n1, n2 = normal[i, 0] / ln, normal[i, 1] / ln, normal[i, 2] / ln
+        la = _norm3(axis[j, 0], axis[j, 1], axis[j, 2])
+        a0, a1, a2 = axis[j, 0] / la, axis[j, 1] / la, axis[j, 2] / la
+        ld = _norm3(-n0, -n1, -n2)
+        d0, d1, d2 = -n0 / ld, -n1 / ld, -n2 / ld
+        la = _norm3(a0, a1, a2)
+        a0, a1, a2 = a0 / la, a1 / la, a2 / la
+        da = (d0 * a0 + d1 * a1) + d2 * a2
+        p0, p1, p2 = d0 - da * a0, d1 - da * a1, d2 - da * a2
+        pn = _norm3(p0, p1, p2)
+        if pn > 1e-12:
+            e0, e1, e2 = p0 / pn, p1 / pn, p2 / pn
+        else:
+            e0, e1, e2 = 0.0, 0.0, 0.0
+        out[i, 0] = cc[i, 0] - (r * a0 + r0 * e0 + r * d0)
+        out[i, 1] = cc[i, 1] - (r * a1 + r0 * e1 + r * d1)
+        out[i, 2] = cc[i, 2] - (r * a2 + r0 * e2 + r * d2)
+    return out
 
 
 @register("flat", "flat-end", "flat_end")
