@@ -9,6 +9,7 @@ import pandas as pd
 from .config import StudyConfig
 from .curves import DEFAULT_TARGETS, reference_values, step_history
 from .folder import StudyFolder, runs_frame
+from .measure import HV_MAX, deficit_runs, deficit_steps, multi_objective, unfixed_reference_points
 from .ranking import bayesian, cd_diagram, friedman
 from .report import render
 from .statistics import BLOCK, compare, summarize
@@ -62,6 +63,9 @@ def analyze(study: StudyConfig, folder: StudyFolder, records: list[dict[str, Any
     runs["factor"] = runs["factor"].fillna("")
     runs["level"] = runs["level"].fillna("").astype(str)
     folder.write_table("runs.csv", runs)
+    hv_max = None
+    if multi_objective(runs):  # the hypervolume deficit is what the statistics compare
+        runs, hv_max = deficit_runs(runs, history)
     summary = summarize(runs)  # every variant, failed runs counted
     folder.write_table("summary.csv", summary)
     st = study.statistics
@@ -80,12 +84,17 @@ def analyze(study: StudyConfig, folder: StudyFolder, records: list[dict[str, Any
         folder.write_table("bayes.csv", bayes)
     f_ref = reference_values(runs)
     known = runs.groupby(BLOCK)["optimum"].first()
+    if hv_max is not None:
+        known = known.rename(HV_MAX)  # figures label the values HV_max - HV
     targets = DEFAULT_TARGETS if st.targets is None else st.targets
 
     def steps(key: str) -> pd.DataFrame:  # best so far at evaluation granularity
+        if hv_max is not None:  # the deficit after each generation
+            block = runs.loc[runs["key"] == key, BLOCK].iloc[0]
+            return deficit_steps(history(key), float(hv_max.loc[tuple(block)]))
         return step_history(folder.trace(key), history(key))
 
-    if study.output.ioh and len(ok_runs):
+    if study.output.ioh and len(ok_runs) and hv_max is None:  # IOHprofiler's format is single-objective
         from .ioh_export import export
         from .ioh_ids import functions
 
@@ -121,8 +130,15 @@ def analyze(study: StudyConfig, folder: StudyFolder, records: list[dict[str, Any
     }
     if len(left_out):
         meta["left out of the tests, ranks and figures"] = left_out_text
+    if hv_max is not None:
+        meta["measure"] = ("the hypervolume deficit HV_max - HV of each run (its archive's hypervolume at the last "
+                           "generation within the budget; HV_max: the largest of any run on the problem)")
+        if unfixed := unfixed_reference_points(study.algorithms):
+            meta["warning"] = (f"{', '.join(unfixed)} fixed no ref_point: each run measured its hypervolume "
+                               "against a reference point of its own first generation, so the runs' hypervolumes "
+                               "are not comparable; give ref_point to every multi-objective algorithm")
     failures = runs_all[runs_all["status"] != "ok"]
-    extra = {"budget": study.cache.budget, "rope": st.rope, "friedman": ranks, "bayes": bayes}
+    extra = {"budget": study.cache.budget, "rope": st.rope, "friedman": ranks, "bayes": bayes, "hv_max": hv_max}
     text = render(study.name or "study", meta, summary, tests, f_ref, known, names, failures, st.test, st.alpha,
                   len(targets), extra)
     folder.write_text("report.md", text)

@@ -36,6 +36,7 @@ from ..engine import HISTORY_COLUMNS, RunState, run
 from ..multiobjective import connect
 from ..runner import Prepared, history_frame, prepare
 from . import shared
+from .folder import HISTORY_EXTRA
 from .grid import Cell
 
 def best_within(improvements: list[tuple[int, float]], budget: int | None) -> float:
@@ -106,7 +107,8 @@ def _run_cell(cell: Cell) -> tuple[dict[str, Any], list[tuple], list[tuple[int, 
         prepared.evaluator.timeout = cell.timeout_s  # a hanging evaluation fails its rows only
         record["optimum"] = optimum(prepared.evaluator.problem)
         run(state, space, prepared.evaluator, prepared.termination)
-        frame = history_frame(state)[list(HISTORY_COLUMNS)]  # a study's histories: the common columns
+        frame = history_frame(state)  # the common columns, and a multi-objective run's hypervolume
+        frame = frame[list(HISTORY_COLUMNS) + [c for c in HISTORY_EXTRA if c in frame]]
         history = [tuple(map(_plain, row)) for row in frame.itertuples(index=False)]
         trace = list(state.improvements)
         record.update(status="ok", error="", final_best=_finite(best_within(trace, cell.budget)),

@@ -23,6 +23,7 @@ from matplotlib.ticker import NullFormatter
 
 from ..figure_style import OBJECTIVE_UNITS, boxes, figure, figure_legend, mark_floor, plain_numbers, png, variant_style
 from .curves import DEFAULT_TARGETS, band, best_on_grid, ecdf, evaluation_grid, runtimes
+from .measure import HV_MAX
 
 FLOOR = 1e-16
 History = Callable[[str], pd.DataFrame]
@@ -86,8 +87,11 @@ def _clamped(values, opt: float) -> int:
     return int((np.isfinite(d) & (d <= FLOOR)).sum())
 
 
-def _what(text: str, opt: float) -> str:
-    """The y label: ``f - f_opt (best so far)`` or, optimum unknown, ``f (best so far)``."""
+def _what(text: str, opt: float, f_opt: pd.Series) -> str:
+    """The y label: ``f - f_opt (best so far)`` or, optimum unknown, ``f (best so far)``; for a
+    hypervolume study (``f_opt`` named ``HV_max``, :mod:`evoplan.study.measure`) the deficit."""
+    if f_opt.name == HV_MAX:
+        return f"HV_max - HV ({text})"
     return f"{'f - f_opt' if np.isfinite(opt) else 'f'} ({text})"
 
 
@@ -126,7 +130,7 @@ def convergence(runs: pd.DataFrame, history: History, f_opt: pd.Series) -> bytes
         mark_floor(ax, FLOOR, clamped)
         clamped_all += clamped
         ax.set(xscale="log", xlabel="evaluations",
-               ylabel=_ylabel(_what("best so far", ref), problem), title=_title(problem, dim, factor))
+               ylabel=_ylabel(_what("best so far", ref, f_opt), problem), title=_title(problem, dim, factor))
         _yscale(ax)
         ax.xaxis.set_minor_formatter(NullFormatter())
         if problem in OBJECTIVE_UNITS:
@@ -149,7 +153,7 @@ def final_boxes(runs: pd.DataFrame, f_opt: pd.Series) -> bytes:
             data.append(_shown(values, ref))
             names.append(level if factor else algorithm)
         boxes(ax, data, names)
-        ax.set(ylabel=_ylabel(_what("final", ref), problem), title=_title(problem, dim, factor))
+        ax.set(ylabel=_ylabel(_what("final", ref, f_opt), problem), title=_title(problem, dim, factor))
         _yscale(ax)
         ax.tick_params(axis="x", labelrotation=45, labelsize=7)
         if problem in OBJECTIVE_UNITS:
@@ -214,7 +218,7 @@ def factor_effects(runs: pd.DataFrame, f_opt: pd.Series) -> bytes:
         boxes(ax, data, levels)
         med = [np.median(d) if len(d) else np.nan for d in data]
         ax.plot(range(1, len(levels) + 1), med, lw=1.5, label="median", **variant_style(0))
-        ax.set(xlabel=factor, ylabel=_ylabel(_what("final", ref), problem), title=_title(problem, dim, factor))
+        ax.set(xlabel=factor, ylabel=_ylabel(_what("final", ref, f_opt), problem), title=_title(problem, dim, factor))
         _yscale(ax)
     return _png(fig, "Boxes: quartiles of the final values at each level; line: their medians; "
                      "dots: every run when a box holds 30 or fewer.")
@@ -237,7 +241,7 @@ def factor_generations(runs: pd.DataFrame, history: History, f_opt: pd.Series) -
             style = variant_style(i)
             ax.plot(np.arange(n), med, lw=1.6, label=f"{factor}={level}", markevery=max(1, n // 8), ms=4, **style)
             ax.fill_between(np.arange(n), q1, q3, color=style["color"], alpha=0.12, lw=0)
-        ax.set(xlabel="generation", ylabel=_ylabel(_what("best so far", ref), problem),
+        ax.set(xlabel="generation", ylabel=_ylabel(_what("best so far", ref, f_opt), problem),
                title=_title(problem, dim, factor))
         _yscale(ax)
     return _png(fig, BANDS)

@@ -79,7 +79,8 @@ class StudyFolder:
 
     def save(self, cell: Cell, record: dict[str, Any], history: list[tuple],
              trace: list[tuple[int, float]] = ()) -> None:
-        frame = pd.DataFrame(history, columns=list(HISTORY_COLUMNS))
+        extra = len(history[0]) - len(HISTORY_COLUMNS) if history else 0
+        frame = pd.DataFrame(history, columns=list(HISTORY_COLUMNS) + list(HISTORY_EXTRA[:extra]))
         write_atomic(self.histories / f"{cell.key}.csv", frame.to_csv(index=False).encode())
         steps = pd.DataFrame(list(trace), columns=list(TRACE_COLUMNS))
         write_atomic(self.traces / f"{cell.key}.csv", steps.to_csv(index=False).encode())
@@ -107,6 +108,9 @@ class StudyFolder:
         path = self.out / name
         path.parent.mkdir(parents=True, exist_ok=True)
         write_atomic(path, data)
+
+
+HISTORY_EXTRA = ("hypervolume",)  # a history's columns beyond the engine's, when a run has them
 
 
 RUN_COLUMNS = ["key", "algorithm", "problem", "dimension", "factor", "level", "repetition", "seed", "status",

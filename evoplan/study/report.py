@@ -125,8 +125,8 @@ def power_warnings(tests: pd.DataFrame, test: str, alpha: float) -> list[str]:
 def render(name: str, meta: dict[str, Any], summary: pd.DataFrame, tests: pd.DataFrame, f_ref: pd.Series,
            known: pd.Series, figures: list[str], failures: pd.DataFrame, test: str, alpha: float,
            n_targets: int, extra: dict[str, Any] | None = None) -> str:
-    """``report.md``. ``extra``: ``budget`` (``distinct``/``all``), ``rope``, and the tables
-    ``friedman`` and ``bayes`` when made."""
+    """``report.md``. ``extra``: ``budget`` (``distinct``/``all``), ``rope``, the tables
+    ``friedman`` and ``bayes`` when made, and ``hv_max`` (per problem) for a hypervolume study."""
     extra = extra or {}
     lines = [f"# Study `{name}`", ""]
     lines += [f"- {k}: {v}" for k, v in meta.items()]
@@ -139,7 +139,11 @@ def render(name: str, meta: dict[str, Any], summary: pd.DataFrame, tests: pd.Dat
         ref = f_ref.loc[(problem, dim)]
         opt = known.loc[(problem, dim)]
         btests = tests[(tests["problem"] == problem) & (tests["dimension"] == dim)] if len(tests) else tests
-        if pd.notna(opt):
+        hv_max = extra.get("hv_max")
+        if hv_max is not None:
+            text = (f"HV_max = {hv_max.loc[(problem, dim)]:.6g} (the largest hypervolume of any run); values are "
+                    "hypervolume deficits HV_max - HV (0: the best run), lower is better.")
+        elif pd.notna(opt):
             text = f"f_opt = {opt:.6g} (known optimum); values are precisions Δf = f - f_opt."
             rows = rows.assign(**{c: rows[c] - opt for c in ("median", "q1", "q3", "best")})
         else:
