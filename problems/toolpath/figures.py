@@ -47,9 +47,14 @@ def cc_pattern_figure(surface, points: np.ndarray, pass_index: np.ndarray, title
     ax2 = fig.add_subplot(1, 2, 2)
     ax2.contour(S[..., 0], S[..., 1], S[..., 2], levels=12, colors="0.8", linewidths=0.5)
     ax2.plot(points[:, 0], points[:, 1], lw=0.5, color="0.5")
-    scale = {"cmap": "viridis"} if not categories else \
-        {"cmap": plt.get_cmap("tab20", categories), "vmin": -0.5, "vmax": categories - 0.5}
-    sc = ax2.scatter(points[:, 0], points[:, 1], s=5, c=color if color is not None else PALETTE[5], **scale)
+    if color is None:  # one colour: no colour map (matplotlib warns when given one unused)
+        scale = {"color": PALETTE[5]}
+    elif not categories:
+        scale = {"c": color, "cmap": "viridis"}
+    else:
+        scale = {"c": color, "cmap": plt.get_cmap("tab20", categories), "vmin": -0.5,
+                 "vmax": categories - 0.5}
+    sc = ax2.scatter(points[:, 0], points[:, 1], s=5, **scale)
     if color is not None:
         bar = fig.colorbar(sc, ax=ax2, label=color_label)
         if categories:

@@ -72,6 +72,19 @@ def test_the_cc_pattern_draws_x_y_and_z_on_one_scale(plan):
     plt.close(fig)
 
 
+def test_the_cc_pattern_in_one_colour_warns_of_nothing(plan):
+    """A plan without a per-point colour (a 3-axis single zone) draws its points in one colour
+    and passes matplotlib no colour map it would warn is unused."""
+    problem, batch, genes = plan
+    path = problem.planner.cl_path(genes, problem.feed_rate)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        fig = cc_pattern_figure(problem.surface, path.info["cc"], path.pass_index, "t")
+        fig.canvas.draw()
+    assert len(fig.axes) == 2  # no colour bar without a colour
+    plt.close(fig)
+
+
 def test_the_layers_legend_sits_outside_the_section():
     xs = np.linspace(0, 50, 51)
     X, Y = np.meshgrid(xs, xs)
