@@ -88,12 +88,13 @@ def read_gcode(path: str | Path, cutter, kinematics=None,
         arc = {}
         new_rot = {}
         setting = False  # a block whose X Y Z I J K are parameters (G68 / G68.2 plane definition)
+        line_motion = False  # the block names G0 / G1 / G2 / G3
         for letter, value in words:
             if letter == "G":
                 g = value.lstrip("0") or "0"
                 g = g if "." not in g or not g.endswith("0") else g.rstrip("0").rstrip(".")
                 if g in ("0", "1", "2", "3"):
-                    motion = g
+                    motion, line_motion = g, True
                 elif g in PLANES:
                     plane = g
                 elif g == "90":
@@ -135,6 +136,8 @@ def read_gcode(path: str | Path, cutter, kinematics=None,
             else:
                 raise GcodeError(n, f"unknown word {letter}{value}")
         if setting:
+            if line_motion:  # its X Y Z would be the plane's parameters, not the move's end
+                raise GcodeError(n, "a motion word G0-G3 in a plane-definition block (G68 / G68.2 / G17.1)")
             continue
         if not target and not new_rot:
             if arc:

@@ -98,6 +98,8 @@ M30
 BAD = {
     "tilted plane arc": ("G90 G17\nG0 X0 Y0 Z0\nG68.2 X0 Y0 Z0 I0 J45 K0\nG2 X10 Y0 R5\n", 4, "tilted working plane"),
     "cycle": ("G90\nG0 X0 Y0 Z5\nG81 Z-5 R1 F100\n", 3, "canned cycle G81"),
+    # read as the plane's parameters, the move to X20 was skipped without a word
+    "move in a plane definition": ("G90 G17\nG0 X0 Y0 Z0\nG68 X0 Y0 R30 G1 X20\n", 3, "plane-definition block"),
     "arc off": ("G90\nG0 X10 Y0 Z0\nG3 X0 Y7 I-10 J0 F100\n", 3, "from its centre"),
     "rotary without kinematics": ("G90\nG0 X0 Y0 Z0 A10\n", 2, "rotary word A"),
     "garbage": ("G90\nG0 X0 Y0 Z0\nhello\n", 3, "not a G-code word"),
