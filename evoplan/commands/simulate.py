@@ -94,7 +94,7 @@ def _problem_and_plan(args):
             raise ConfigError(f"{args.apt}: {e}") from None
         except (OSError, ValueError) as e:
             raise ConfigError(f"{args.apt}: {e}") from None
-        return config, problem, path, None, f"APT file {Path(args.apt).name}"
+        return config, problem, path, None, f"APT file {Path(args.apt).name}", _read_facts(apt)
     if getattr(args, "nc", None):
         return (config, problem, *_nc_path(args))
     if params is None:
@@ -107,11 +107,17 @@ def _problem_and_plan(args):
     except ValueError as e:
         raise ConfigError(f"{config}: {e}") from None
     label = ", ".join(f"{k} {v:g}" if isinstance(v, float) else f"{k} {v}" for k, v in params.items())
-    return config, problem, path, labels, label
+    return config, problem, path, labels, label, {}
+
+
+def _read_facts(tp) -> dict:
+    """What simulation.json says of a file read (an APT or NC program): the statements or
+    words that were read but do not move the tool, counted (``ignored_statements``)."""
+    return {"ignored_statements": dict(sorted((tp.ignored or {}).items()))}
 
 
 def _nc_path(args):
-    """(CLPath, None, label) of ``--nc FILE --tool D[,r]``."""
+    """(CLPath, None, label, facts) of ``--nc FILE --tool D[,r]``."""
     from ..problems.toolpath.clpath import CLPath
     from ..problems.toolpath.cutters import make_cutter
     from ..problems.toolpath.export.gcode_read import GcodeError, read_gcode
@@ -125,7 +131,8 @@ def _nc_path(args):
         raise ConfigError(f"--tool {args.tool!r}: give the cutter as D[,r] in mm (d > 0, 0 <= r <= D/2)") from None
     kin = Kinematics("table_table", Rotary("A", "x", (-120, 120)), Rotary("C", "z", (-1e6, 1e6)))
     try:
-        return CLPath.from_apt(read_gcode(args.nc, make_cutter(d, r, key="--tool"), kin)), None, f"NC file {Path(args.nc).name}"
+        tp = read_gcode(args.nc, make_cutter(d, r, key="--tool"), kin)
+        return CLPath.from_apt(tp), None, f"NC file {Path(args.nc).name}", _read_facts(tp)
     except (GcodeError, OSError, ValueError) as e:
         raise ConfigError(f"{args.nc}: {e}") from None
 
@@ -161,7 +168,7 @@ def _measure(args: argparse.Namespace, stages) -> tuple[dict, dict[str, bytes]]:
     from ..problems.toolpath.simulation.figures import deviation_hist_png, deviation_map_png
 
     stages.set_postfix_str("plan")
-    config, problem, path, labels, label = _problem_and_plan(args)
+    config, problem, path, labels, label, read_facts = _problem_and_plan(args)
     tolerance = args.tolerance or float(getattr(problem, "simulation_tolerance", 0.01))
     t0 = time.perf_counter()
     try:
@@ -179,7 +186,7 @@ def _measure(args: argparse.Namespace, stages) -> tuple[dict, dict[str, bytes]]:
     stages.set_postfix_str("figures")
     from ..problem_factory import surface_facts
 
-    record = {"plan": label, **sim.summary(path, seconds)}
+    record = {"plan": label, **read_facts, **sim.summary(path, seconds)}
     if facts := surface_facts(problem):
         record["surface"] = facts  # a mesh: the fit the plan was made on, and its deviation
     title = f"{label}\nscallop max {sim.metrics['scallop_max_mm']:.4f} mm, p99 " \

@@ -32,7 +32,8 @@ Statements with meaning here:
   ``LOADTL/n``; ``SPINDL/RPM,n,CLW`` (Creo) as well as ``SPINDL/n,RPM``.
 - Numbers take Fortran ``D`` exponents (``1.5D+00``).
 
-Every other statement that does not move the tool (``PPRINT``, ``MSYS/`` (the output frame the
+Every other statement that does not move the tool (``PPRINT`` and ``INSERT``, whose free
+text follows a space or a slash, ``MSYS/`` (the output frame the
 GOTOs are already in), ``PAINT/``, ``INDIRV/``, ``TOOL PATH/``, ``END-OF-PATH``, ``CUTCOM``,
 ...) is counted and listed in ``ignored``. A motion statement this reader does not take
 (``GOFWD``, ``GOLFT``, ``GORGT``, ``GOBACK``, ``GOUP``, ``GODOWN``, ``GO``, ``MOVARC``,
@@ -56,6 +57,7 @@ MOTION = frozenset("GOFWD GOLFT GORGT GOBACK GOUP GODOWN GO MOVARC PSIS DNTCUT".
 SECTION = re.compile(r"^(?:ZONE\s+\S+\s+)?PASS\s+\S+", re.I)
 TOOLPOINT = re.compile(r"^TOOLPOINT\s+(TIP|CENTRE|CENTER)\b", re.I)
 STATEMENT = re.compile(r"^\s*([A-Za-z][A-Za-z0-9_\- ]*?)\s*(?:/(.*))?$")
+TEXT = re.compile(r"^\s*(PPRINT|INSERT)(?:[\s/]|$)", re.I)  # statements whose argument is free text
 FORTRAN = re.compile(r"^([+-]?(?:\d+\.?\d*|\.\d+))[dD]([+-]?\d+)$")
 
 
@@ -325,6 +327,10 @@ def read_apt(path: str | Path) -> AptToolpath:
             continue
         if code.upper().startswith("PARTNO"):
             r.info["part"] = code[6:].lstrip(" /").strip()
+            continue
+        text_word = TEXT.match(code)
+        if text_word:  # PPRINT / INSERT carry free text after a space (or a slash): nothing moves
+            r.ignore(text_word.group(1).upper())
             continue
         m = STATEMENT.match(code)
         if not m or (" " in m.group(1).strip() and m.group(2) is None):  # "TOOL PATH/..." needs its slash

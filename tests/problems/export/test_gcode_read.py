@@ -145,6 +145,9 @@ def test_simulate_measures_a_fanuc_program_as_the_plan(tmp_path, capsys):
     assert main(["simulate", str(run), "--nc", str(tmp_path / "f.nc"), "--tool", "12,6", "--grid", "0.5",
                  "--quiet", "--out", str(tmp_path / "b")]) == 0
     a, b = (json.loads((tmp_path / x / "simulation.json").read_text()) for x in "ab")
+    # the words that do not move the tool, listed: the tool change, spindle, coolant, G43.4 ...
+    ign = b["ignored_statements"]
+    assert ign["T"] == 1 and ign["S"] == 1 and ign["G43.4"] == 1 and ign["G49"] >= 1 and ign["M"] >= 4
     for key in ("scallop_max_mm", "scallop_mean_mm", "gouge_max_mm", "uncut_fraction"):
         assert b[key] == pytest.approx(a[key], abs=3e-4), key
     capsys.readouterr()

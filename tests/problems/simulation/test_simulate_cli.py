@@ -48,10 +48,13 @@ def test_a_parameter_set_writes_the_record_and_figures(by_set):
 def test_apt_written_then_simulated_gives_the_same_numbers(by_set, tmp_path):
     pr = ToolpathProblem()
     apt = pr.artifacts(pr.row(PARAMS)[0])["toolpath.apt"]
-    (tmp_path / "plan.apt").write_bytes(apt)
+    # statements that do not move the tool are read, counted and listed, not refused
+    (tmp_path / "plan.apt").write_bytes(b"PAINT/COLOR,36\nINDIRV/1,0,0\nPPRINT KEEP\nPAINT/PATH\n" + apt)
     code, out = _simulate(tmp_path, "apt", RUN, "--apt", tmp_path / "plan.apt")
     assert code == 0
     rec = json.loads((out / "simulation.json").read_text())
+    assert rec["ignored_statements"] == {"INDIRV": 1, "PAINT": 2, "PPRINT": 1}
+    assert "ignored_statements" not in by_set[1]  # a plan from --set reads no file
     ref = by_set[1]
     # the APT file rounds tips to 1e-4 mm and adds an approach and a retract in the air
     for key in ("scallop_max_mm", "scallop_mean_mm", "scallop_p99_mm", "gouge_max_mm", "uncut_fraction"):
