@@ -13,7 +13,7 @@ A configuration reads some of these genes (``Planner.gene_names``, in this order
 
 Each gene is either a **variable** of the chromosome, over ``ranges: {name: [lo, hi]}``, or
 **fixed** by ``fixed: {name: value}`` (the tool by its id; a database of one tool fixes
-the tool): a fixed gene is not in the
+the tool; a one-point range ``[v, v]`` is ``fixed: {name: v}``): a fixed gene is not in the
 chromosome (``n_var``, ``xl``/``xu`` and the pymoo ``variables`` hold only the free genes)
 and its value is inserted when a row is decoded. The phenotype row ``X`` holds the free
 genes in the order above, the tool as its INDEX into the database.
@@ -47,6 +47,26 @@ def _check_value(name: str, x: float, key: str) -> None:
         raise ValueError(f"{key}: angles must lie in (-90, 90) degrees, got {x:g}")
 
 
+
+def _points_as_fixed(ranges, fixed):
+    """(ranges, fixed) with every one-point range ``name: [v, v]`` moved to ``fixed`` (that
+    gene then has one value: the plan is given, not searched); a gene with both is left for
+    the usual one-line error."""
+    if not isinstance(ranges, dict) or not (fixed is None or isinstance(fixed, dict)):
+        return ranges, fixed  # the usual errors name what is wrong
+    points = {}
+    for name, value in ranges.items():
+        try:
+            lo, hi = (float(x) for x in value)
+        except (TypeError, ValueError):
+            continue
+        if lo == hi and np.isfinite(lo) and name not in (fixed or {}):
+            points[name] = value[0]
+    if not points:
+        return ranges, fixed
+    return {k: v for k, v in ranges.items() if k not in points}, {**(fixed or {}), **points}
+
+
 class GeneSpace:
     """The genes of one configuration: ranges, fixed values, chromosome and decoding.
 
@@ -67,6 +87,7 @@ class GeneSpace:
         absent = dict(absent or {})
         known = (list(GENE_ORDER) + list(absent) + ([zone_gene.name] if zone_gene else [])
                  + list(self.choices))
+        ranges, fixed = _points_as_fixed(ranges, fixed)
         self.fixed = self._fixed(fixed, absent, known, zone_gene, zone_value)
         if len(tools) == 1 and "tool" in self.names:
             self.fixed.setdefault("tool", 0.0)  # a database of one tool fixes the tool
@@ -267,6 +288,8 @@ class GeneSpace:
         corners and the centre of the other free ranges, plus ``n_random`` seeded uniform
         rows over the whole box (with the five genes free, the design of Fountas' problem)."""
         free, lo, hi = self.free, self.xl, self.xu
+        if not free:  # every gene fixed: one plan, one empty row
+            return np.zeros((1, 0))
         t = free.index("tool") if "tool" in free else None
         cont = [j for j in range(len(free)) if j != t]
         corners = np.array(list(itertools.product(*[(lo[j], hi[j]) for j in cont])))

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 
+import numpy as np
 import pytest
 
 from evoplan.cli import main
@@ -69,3 +70,17 @@ def test_a_fixed_run_matches_evaluate_of_the_same_plan(tmp_path, capsys):
     assert main(["run", str(tmp_path / "fixed.yaml"), "--resume", str(out), "--quiet"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 2 and "every decision is fixed" in err[1]
+
+
+def test_a_one_point_range_fixes_its_gene():
+    # ranges {stepover: [v, v]} was refused ("expected finite lo < hi"): it is the plan's value
+    point = ToolpathProblem(ranges={k: [v, v] for k, v in PLAN.items() if k != "tool"}, fixed={"tool": 6})
+    fixed = ToolpathProblem(fixed=PLAN)
+    assert point.fixed == fixed.fixed and point.genes.free == () == fixed.genes.free
+    assert point.genes.design(8, 0).shape == (1, 0)  # one plan: it raised "cannot reshape array of size 0"
+    a, b = (p.criteria(np.zeros((1, 0))) for p in (point, fixed))
+    assert a["cc_count"][0] == b["cc_count"][0] == 289 and a["path_length"][0] == b["path_length"][0]
+    one = ToolpathProblem(ranges={"stepover": [30, 30]})
+    assert one.fixed == {"stepover": 30.0} and "stepover" not in one.genes.free
+    with pytest.raises(ValueError, match=r"^ranges.stepover: expected finite lo < hi"):
+        ToolpathProblem(ranges={"stepover": [31, 30]})
