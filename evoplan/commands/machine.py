@@ -3,8 +3,9 @@
 Roughing from a block (Abbas' morphing layers or z-level, flat end mill, zig-zag, checked on a
 stock Z-map), semi-finish (ball end on the exact normal offset, 3-axis) and finish (the
 evoplan toolpath problem's plan, its parameters from the file or from a finished run's
-``best.json`` with ``--from-run``; or a 3-axis ball on the offset). Writes ``roughing.nc``,
-``semifinish.nc``, ``finish.nc`` in the post's dialect, the matching ``.apt`` files,
+``best.json`` with ``--from-run``; or a 3-axis ball on the offset). Writes ``roughing``,
+``semifinish`` and ``finish`` programs in the post's dialect (``.nc``; Heidenhain ``.h``,
+Siemens ``.mpf``), the matching ``.apt`` files,
 ``surface.dxf``, ``surface.stl``, ``toolpaths.dxf``, ``layers.png`` and ``summary.json``
 (layers, lengths, times, NC sizes). See ``runs/abbas_gentle.yaml``. Nothing is written unless
 every operation and every post succeeds.
@@ -105,6 +106,12 @@ def main(args: argparse.Namespace) -> int:
             op, v = next(iter(failed.items()))
             raise EvoplanError(f"{args.config}: --check: {op}.nc breaks {len(v)} safety rule(s), first: {v[0]}")
     write_folder(out, files)  # all files or none (a full disk: one line)
-    print(json.dumps({"out": str(out), **{op: {k: summary[op][k] for k in ("time_min", "nc_bytes")}
-                                          for op in ("roughing", "semifinish", "finish")}}))
+    record = {"out": str(out), **{op: {k: summary[op][k] for k in ("nc_file", "time_min", "nc_bytes")}
+                                  for op in ("roughing", "semifinish", "finish")}}
+    if args.check:  # what was verified: each 5-axis program's rules held
+        record["check"] = {op: {"ok": True, "repositions": s["safety"]["repositions"],
+                                "c_travel_deg": round(s["safety"]["c_travel"], 1),
+                                "c_travel_near_pole_deg": round(s["safety"]["c_travel_pole"], 1)}
+                           for op, s in summary.items() if isinstance(s, dict) and s.get("safety")}
+    print(json.dumps(record))
     return 0

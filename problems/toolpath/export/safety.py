@@ -7,6 +7,7 @@ does (the post's own reader turns the text into moves), not on what the writer m
    and ends at or above the clearance plane;
 2. the last move before tool-centre-point control is cancelled (``G49``, ``TRAFOOF``,
    ``FUNCTION RESET TCPM``) is at or above the clearance plane, and so is the first move;
+   no move after the cancel goes below it (the table may still be tilted);
 3. while |tilt| is below ``pole_angle`` the rotary table does not turn (only with the hold on;
    the one step of a move leaving or entering that cone may turn it).
 
@@ -76,6 +77,11 @@ def check_program(post, text: str, safe_z: float) -> SafetyReport:
                               f"below the clearance plane {safe_z:.3f}")
     if zz[-1] < safe_z - TOL:
         rep.violations.append(f"move {len(zz) - 1}: TCP is cancelled at Z {zz[-1]:.3f}, "
+                              f"below the clearance plane {safe_z:.3f}")
+    after = post.read(text).tip[len(z):, 2]
+    after = after[np.isfinite(after)]
+    if len(after) and after.min() < safe_z - TOL:
+        rep.violations.append(f"after TCP is cancelled a move goes down to Z {after.min():.3f}, "
                               f"below the clearance plane {safe_z:.3f}")
     turn = np.abs(np.diff(ang, axis=0)).max(axis=1)
     low = np.minimum(zz[:-1], zz[1:]) < safe_z - TOL

@@ -173,8 +173,9 @@ def build_operations(cfg: dict, base_dir=None, plan=None, max_bytes: float | Non
             safety = {**check_program(post, nc.decode(), safe_z).__dict__, "clearance_plane": safe_z,
                       "axis_error_deg": post.axis_error}
         apt = apt_toolpath(tp, part=f"{cfg['name']} {name}").encode()
-        files[f"{name}.nc"], files[f"{name}.apt"] = nc, apt
+        files[f"{name}{post.extension}"], files[f"{name}.apt"] = nc, apt  # .nc, Heidenhain .h, Siemens .mpf
         summary[name] = {"tool": {"number": tp.tool.number, "label": tp.tool.label()}, "points": len(tp.tip),
+                         "nc_file": f"{name}{post.extension}",
                          "lengths_mm": tp.lengths(), "time_min": tp.time_minutes(post_cfg["rapid_rate"]),
                          "nc_bytes": len(nc), "nc_lines": nc.count(b"\n"), "apt_bytes": len(apt),
                          "multi_axis": tp.multi_axis, "safety": safety}

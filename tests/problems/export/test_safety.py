@@ -91,3 +91,14 @@ def test_table_holds_near_the_pole_and_the_ball_keeps_its_centre():
 def test_bad_safety_settings_name_their_key(key, value):
     with pytest.raises(ValueError, match=f"^{key}: must be"):
         kin(**{key: value})
+
+
+@pytest.mark.parametrize("name,cancel", [("fanuc", "G49"), ("siemens", "TRAFOOF")])
+def test_a_move_down_after_tcp_is_cancelled_fails(name, cancel):
+    post = POSTS[name](Machine(kin(), safe_z=SAFE))
+    lines = post.program(wild_path()).splitlines()
+    k = lines.index(cancel)
+    assert check_program(post, "\n".join(lines), SAFE).ok
+    down = "\n".join(lines[:k + 1] + ["G0 Z5."] + lines[k + 1:])
+    assert any("after TCP is cancelled a move goes down to Z 5.000" in v
+               for v in check_program(post, down, SAFE).violations)

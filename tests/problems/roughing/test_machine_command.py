@@ -45,9 +45,13 @@ def config(tmp_path, method="zlevel", depth=3.0, dialect="heidenhain", limits="[
 def test_machine_writes_every_file(tmp_path):
     proc = machine(tmp_path, config(tmp_path), "--out", tmp_path / "out", "--check")
     assert proc.returncode == 0, proc.stderr
+    printed = json.loads(proc.stdout.strip().splitlines()[-1])  # --check says what held
+    assert set(printed["check"]) == {"roughing", "semifinish", "finish"} and printed["check"]["finish"]["ok"]
+    assert printed["finish"]["nc_file"] == "finish.h"
     out = tmp_path / "out"
     names = {p.name for p in out.iterdir()}
-    assert names == {"roughing.nc", "semifinish.nc", "finish.nc", "roughing.apt", "semifinish.apt", "finish.apt",
+    # a Heidenhain TNC program is a .h file (it was .nc whatever the dialect)
+    assert names == {"roughing.h", "semifinish.h", "finish.h", "roughing.apt", "semifinish.apt", "finish.apt",
                      "surface.dxf", "surface.stl", "toolpaths.dxf", "layers.png", "summary.json"}
     summary = json.loads((out / "summary.json").read_text())
     rough = summary["roughing"]
@@ -55,7 +59,8 @@ def test_machine_writes_every_file(tmp_path):
     assert 0 < rough["max_depth"] <= 3.0 and rough["rapid_volume"] == 0
     assert rough["left_min"] >= summary["roughing"]["allowance"] - 0.011
     for op in ("roughing", "semifinish", "finish"):
-        assert summary[op]["nc_bytes"] == (out / f"{op}.nc").stat().st_size > 0
+        assert summary[op]["nc_file"] == f"{op}.h"
+        assert summary[op]["nc_bytes"] == (out / f"{op}.h").stat().st_size > 0
     assert summary["finish"]["multi_axis"] and not summary["roughing"]["multi_axis"]
     assert summary["finish"]["safety"]["violations"] == [] and summary["finish"]["safety"]["clearance_plane"] == \
         pytest.approx(summary["stock"]["z_top"] + 20)
@@ -63,7 +68,7 @@ def test_machine_writes_every_file(tmp_path):
     kin = Kinematics("head_table", Rotary("B", "y", (-90, 90)), Rotary("C", "z", (-360, 360)))
     post = POSTS["heidenhain"](Machine(kin))
     for op in ("roughing", "semifinish", "finish"):
-        moves = post.read((out / f"{op}.nc").read_text())
+        moves = post.read((out / f"{op}.h").read_text())
         tp = read_apt(out / f"{op}.apt")
         # the APT's last point is among the last moves (then the rise to the clearance plane)
         assert np.abs(moves.tip[-4:] - tp.tip[-1]).max(axis=1).min() < 1e-3

@@ -4,8 +4,8 @@ Every line starts with its block number (0, 1, ...). Program: ``BEGIN PGM name M
 ``TOOL CALL n Z S rpm``, the rotaries positioned, ``FUNCTION TCPM F TCP AXIS POS PATHCTRL
 AXIS`` (tool centre point control, the successor of M128: X Y Z are the tool tip in the part
 frame), linear blocks ``L X+.. Y+.. Z+.. A+.. C+.. R0 F..`` (``FMAX`` for rapids; the first
-block switches spindle and coolant on with M13), ``FUNCTION RESET TCPM``, a retract with
-``M30``, ``END PGM name MM``. Comments are ``; ...`` lines.
+block switches spindle and coolant on with M13), ``FUNCTION RESET TCPM``, the end block at the
+clearance plane with ``M30``, ``END PGM name MM``. Comments are ``; ...`` lines.
 
 Arcs (with a machine tolerance, where the rotaries hold still): the circle centre ``CC`` with
 the two coordinates of the arc's plane (absolute; ``CC X.. Y..`` in XY, ``CC X.. Z..`` in ZX,
@@ -73,7 +73,9 @@ class HeidenhainPost(Post):
         return lines + [f"C {to} {'DR-' if clockwise else 'DR+'}{tail}"]
 
     def footer(self, tp: Toolpath, name: str) -> list[str]:
-        return ["FUNCTION RESET TCPM", f"L Z{_signed(tp.tip[:, 2].max())} R0 FMAX M30", f"END PGM {name} MM"]
+        # the program already stands at the clearance plane: the end block stays there (it
+        # went down to the toolpath's highest point, below the plane, with the table tilted)
+        return ["FUNCTION RESET TCPM", f"L Z{_signed(self.machine.plane(tp))} R0 FMAX M30", f"END PGM {name} MM"]
 
     def parse_line(self, line: str, state: dict) -> bool:
         m = re.fullmatch(r"(\d+) (.*)", line.strip())
