@@ -55,8 +55,8 @@ class ToolpathProblem(Problem):
     0.5), ``objectives`` (a list of criteria: a multi-objective F), ``normalization``
     {criterion: [lo, hi]} (given bounds; ``[0, 1]`` keeps a criterion's raw value),
     ``normalization_samples`` / ``seed`` of the fixed design (with every gene fixed there is
-    no design: a criterion without given bounds enters Eq. 9 raw), ``feed_rate`` mm/min (1000, for
-    ``machining_time_nominal``), ``dynamics`` {accel, jerk, feed, rapid, corner_tolerance}
+    no design: a criterion without given bounds enters Eq. 9 raw), ``feed_rate`` mm/min (1000: the
+    feed of a tool without a library ``feed``, for ``machining_time_nominal``), ``dynamics`` {accel, jerk, feed, rapid, corner_tolerance}
     (the machine's limits for the kinematic ``machining_time``),
     ``allowance`` finishing stock mm (0.5), ``criteria`` analytic | simulated (with
     ``simulation`` {grid_mm, rays, allowance}: scallop, gouge and machining error measured by

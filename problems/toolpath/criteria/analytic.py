@@ -202,7 +202,8 @@ def analytic_criteria(batch, surface, tools, genes: dict, *, allowance: float,
 
     tools: the ``ToolDatabase``; genes: per plan (n,) arrays, ``tool`` the tool INDEX and, for
     a 5-axis plan, ``lead`` and ``tilt`` (degrees); other genes are ignored. allowance:
-    finishing stock (mm, the cap of a scallop); feed_rate (mm/min); delta_l: Djebali's
+    finishing stock (mm, the cap of a scallop); feed_rate (mm/min, for a tool without a library
+    feed); delta_l: Djebali's
     Delta L per extra zone (mm). dynamics: the machine's limits (``kinematic_time.Dynamics``,
     None: the defaults) for ``machining_time``. machine: ``5axis`` | ``3axis``; None: 5-axis when the genes
     hold lead and tilt. Points off the part (``on_part`` False) count in the lengths only.
@@ -235,7 +236,10 @@ def analytic_criteria(batch, surface, tools, genes: dict, *, allowance: float,
     crit["undercut_max"] = np.where(sharp, crit["scallop_max"], 0.0)
     crit |= plan_lengths(batch)
     crit["path_length"] = crit["cutting_length"] + crit["link_length"] + crit["interzone_length"]
-    crit["machining_time_nominal"] = crit["path_length"] / float(feed_rate)
+    # at the plan's tool feed (the library's, else feed_rate): the length-based twin of
+    # machining_time, which takes the library's feed too
+    tool_feed = np.array([getattr(t, "feed", None) or float(feed_rate) for t in tools.tools], float)
+    crit["machining_time_nominal"] = crit["path_length"] / tool_feed[ti]
     crit["machining_time"] = kinematic_time(batch, tools, ti, dynamics)
     crit["eq4_total"] = eq4_total(crit["cutting_length"], crit["zones"], delta_l)
     crit["length_on_part_mm"] = np.bincount(seg_ind, batch.seg_len[chords], n)

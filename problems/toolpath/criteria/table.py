@@ -70,7 +70,8 @@ _TABLE = (
               "`dynamics` limits (default jerk 40 m/s^3, acceleration 6 m/s^2, feed 5 m/min or "
               "the tool's), slowed at every direction change, zone changes as rapids"),
     Criterion("machining_time_nominal", "min", True,
-              "path length / feed rate (no rapids, no acceleration limits)"),
+              "path length / feed (the tool library's feed, else feed_rate; no rapids, no "
+              "acceleration limits)"),
     Criterion("eq4_total", "mm", True,
               "Djebali Eq. 4: cutting length + (zones - 1) x delta_l (old name total_length)"),
     Criterion("length_on_part_mm", "mm", True,

@@ -108,6 +108,8 @@ def test_a_tool_library_feed_drives_the_time_and_an_entry_without_one_is_refused
     X = slow.genes.design(3, 1)
     c = slow.criteria(X)
     np.testing.assert_allclose(c["machining_time"], c["path_length"] / 2500.0, rtol=1e-6)
+    # the length-based time at the same feed (it took feed_rate, 1000, whatever the library said)
+    np.testing.assert_allclose(c["machining_time_nominal"], c["path_length"] / 2500.0, rtol=1e-12)
     tools[2]["spindle"] = 9000
     with pytest.raises(ValueError, match=r"^tools\[2\]\.feed: missing"):
         ToolpathProblem(tools=tools, **kw)
