@@ -1,6 +1,6 @@
 """Speed of the one toolpath engine (planner + analytic criteria), one core.
 
-    python runs/bench/engine_speed.py [--batch 200] [--repeats 10] [--profile]
+    python runs/bench/engine_speed.py [--batch 200] [--repeats 10] [--profile] [--compare]
 
 - Unzoned: Fountas' part, 5-axis, random parameter sets over the paper's ranges (nine
   tools, step-over 20-45 %, lead 0-5, tilt 0-2 deg, step 5-10 mm), whole batches:
@@ -11,6 +11,10 @@
   one reuses it. Printed: the layout cost, and milliseconds per memoized evaluation
   (target: at most 50 ms).
 - --profile: pyinstrument's top lines for a memoized zoned population.
+- --compare: the compiled passes (``geometry/rows.interp_rows``, the torus family's
+  ``cc_to_tip``) against their numpy references (``interp_rows_numpy``,
+  ``Cutter.cc_to_tip``) on the same batches, interleaved in this process: the ratio, and
+  every criterion checked equal bit for bit.
 """
 
 from __future__ import annotations
@@ -98,13 +102,69 @@ def zoned(args, rng):
         print(prof.output_text(unicode=False, color=False))
 
 
+def _use_numpy(numpy: bool) -> None:
+    """Swap the compiled passes for their numpy references (``--compare``) or back."""
+    from evoplan.problems.toolpath.criteria import scallop
+    from evoplan.problems.toolpath.cutters import shapes
+    from evoplan.problems.toolpath.cutters.base import Cutter
+    from evoplan.problems.toolpath.geometry import rows
+    from evoplan.problems.toolpath.plan import points
+
+    compiled = _use_numpy.__dict__.setdefault("compiled", (rows.interp_rows, shapes._Revolved.cc_to_tip))
+    interp, tip = (rows.interp_rows_numpy, Cutter.cc_to_tip) if numpy else compiled
+    points.interp_rows = scallop.interp_rows = interp
+    shapes._Revolved.cc_to_tip = tip
+
+
+def compare(args) -> None:
+    """Interleaved A/B of the numpy references and the compiled passes on the same batches."""
+    cases = []
+    surface, tools = parse_surface("fountas"), parse_tools(None)
+    planner = Planner(surface, tools, machine="5axis")
+    n = args.batch
+    cases.append(("unzoned (Fountas, 5-axis), evaluations/s", planner, surface, tools, "5axis", lambda rng: dict(
+        tool=rng.integers(0, 9, n), stepover=rng.uniform(20, 45, n), lead=rng.uniform(0, 5, n),
+        tilt=rng.uniform(0, 2, n), step=rng.uniform(5, 10, n)), n))
+    surface, tools = parse_surface("choi"), parse_tools(CHOI_TOOLS)
+    planner = Planner(surface, tools, machine="3axis", spacing="stepover", feed_angle=None,
+                      h_c=0.254, zoning=ZoningSpec("kmeans"))
+    for k in range(1, 7):
+        for tool in range(2):
+            planner.layouts.get(k, tool)
+    cases.append(("zoned memoized (Choi, K 1..6, 2 tools), evaluations/s", planner, surface, tools, "3axis",
+                  lambda rng: dict(tool=rng.integers(0, 2, 20), stepover=rng.uniform(40, 90, 20),
+                                   step=rng.uniform(0.5, 2.0, 20), zones=rng.integers(1, 7, 20)), 20))
+    for label, planner, surface, tools, machine, draw, size in cases:
+        times = {True: [], False: []}
+        for numpy in (True, False):  # warm-up (compilation)
+            _use_numpy(numpy)
+            evaluate(planner, surface, tools, draw(np.random.default_rng(10 ** 6)), machine)
+        for rep in range(args.repeats):
+            out = {}
+            for numpy in (True, False):
+                _use_numpy(numpy)
+                genes = draw(np.random.default_rng(rep))
+                t = time.process_time()
+                out[numpy] = evaluate(planner, surface, tools, genes, machine)
+                times[numpy].append(time.process_time() - t)
+            assert all(np.array_equal(out[True][k], out[False][k], equal_nan=True) for k in out[True]), label
+        ref, new = np.median(times[True]), np.median(times[False])
+        print(f"{label}: numpy references {size / ref:.0f}, compiled {size / new:.0f}: {ref / new:.2f}x "
+              f"({args.repeats} interleaved repeats, every criterion bit-identical; load {os.getloadavg()[0]:.1f})")
+    _use_numpy(False)
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--batch", type=int, default=200)
     ap.add_argument("--repeats", type=int, default=10)
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--profile", action="store_true")
+    ap.add_argument("--compare", action="store_true", help="compiled passes vs their numpy references")
     args = ap.parse_args()
+    if args.compare:
+        compare(args)
+        return
     rng = np.random.default_rng(args.seed)
     unzoned(args, rng)
     zoned(args, rng)
