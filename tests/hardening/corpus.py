@@ -155,6 +155,8 @@ SPECIFIC = [
     ("machine", "kinematics max_step 1e-9", MACHINE.replace("layout: head_table}", "layout: head_table, max_step: 1.0e-9}"), []),
     ("machine", "max_depth 1e-7", MACHINE.replace("max_depth: 3.0", "max_depth: 1.0e-7"), []),
     ("machine", "stock.cell 1e-5", MACHINE.replace("{cell: 1.0}", "{cell: 1.0e-5}"), []),
+    # found by the fuzzer: cell counts past what a float holds (an int overflow, a traceback)
+    ("machine", "stock.cell 1e-300", MACHINE.replace("{cell: 1.0}", "{cell: 1.0e-300}"), []),
     ("machine", "roughing tool diameter 5000", MACHINE.replace("tool: {diameter: 8}", "tool: {diameter: 5000}"), []),
     ("machine", "semifinish.step 1e-6", MACHINE.replace("stepover: 4, step: 3", "stepover: 4, step: 1.0e-6"), []),
     ("simulate", "grid 1e-300", SIMULATE, [*SIM_SETS, "--grid", "1e-300"]),

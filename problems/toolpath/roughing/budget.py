@@ -9,7 +9,6 @@ their working copies: the right order of magnitude, not the exact peak.
 
 from __future__ import annotations
 
-import math
 
 import numpy as np
 
@@ -34,7 +33,9 @@ def check_sizes(cfg: dict, surface, max_bytes: float | None) -> None:
     (x0, y0, z0), (x1, y1, z1) = p.min(axis=0), p.max(axis=0)
     st, ro, al = cfg["stock"], cfg["roughing"], cfg["allowances"]
     cell = float(st["cell"])
-    cells = (math.ceil((x1 - x0) / cell) + 1) * (math.ceil((y1 - y0) / cell) + 1)
+    # Python float counts: a cell of 1e-300 mm gives counts no int-to-float conversion takes;
+    # a float product past 1.8e308 is inf, which the ceilings refuse
+    cells = (float(np.ceil(float(x1 - x0) / cell)) + 1.0) * (float(np.ceil(float(y1 - y0) / cell)) + 1.0)
     _fits(cells * ZMAP_BYTES, max_bytes, f"stock.cell: a {cell:g} mm Z-map over {x1 - x0:.1f} x {y1 - y0:.1f} mm "
                                          f"({cells:.3g} cells)")
     z_top = float(st["top"]) if st.get("top") is not None else z1 + float(st["top_offset"])
@@ -47,7 +48,8 @@ def check_sizes(cfg: dict, surface, max_bytes: float | None) -> None:
         per_layer = 8 if ro["method"].startswith("morphing") else 1
         _fits(layers * cells * per_layer, max_bytes, f"roughing.max_depth: {layers:.3g} layers of {cells:.3g} cells")
     reach = 0.5 * float(ro["tool"]["diameter"]) + float(al["semifinish"]) + float(al["finish"]) + cell
-    disk = (2 * math.floor(reach / cell) + 1) ** 2
+    side = 2.0 * float(np.floor(reach / cell)) + 1.0
+    disk = side * side  # (a float ** 2 raises OverflowError where * gives inf)
     _fits(disk * 8 * 3, max_bytes, f"roughing.tool.diameter: a {ro['tool']['diameter']:g} mm tool's footprint "
                                    f"({disk:.3g} cells of {cell:g} mm)")
     if disk * cells > MAX_FILTER_WORK:
