@@ -40,7 +40,8 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
-__all__ = ["Dynamics", "parse_dynamics", "chain_time", "plan_times", "kinematic_time"]
+__all__ = ["Dynamics", "parse_dynamics", "chain_time", "plan_times", "kinematic_time", "toolpath_time",
+           "moves_time"]
 
 
 @dataclass(frozen=True)
@@ -265,15 +266,32 @@ def toolpath_time(tp, dyn: Dynamics | None = None) -> float:
     """Kinematic time (min) of an NC operation (``export.toolpath.Toolpath``): its feed moves
     as chains under the limits (plunges at the plunge feed, a feed change is a speed knot),
     every rapid from rest to rest at ``dyn.rapid``."""
-    dyn = dyn or Dynamics()
-    rapid = np.asarray(tp.rapid, bool)
     feed = np.where(np.asarray(tp.plunge, bool), tp.plunge_feed, tp.feed)
-    t = chain_time(tp.tip, feed, dyn, start=rapid).sum()
+    return moves_time(tp.tip, tp.rapid, feed, dyn)
+
+
+def moves_time(tip, rapid, feed, dyn: Dynamics | None = None, angles=None,
+               rapid_rotary: float | None = None) -> float:
+    """Kinematic time (min) of NC moves (the points ``tip`` (m, 3), ``rapid`` (m,) True for a
+    rapid into the point, ``feed`` (m,) mm/min of a feed move): feed moves as chains under the
+    limits (a feed change is a speed knot), every rapid from rest to rest at ``dyn.rapid``;
+    with ``angles`` (m, 2) deg and ``rapid_rotary`` deg/min, a rapid that turns a rotary takes
+    the longer of its linear and its rotary time (the rotary at constant rate: the program as
+    read back, repositions included)."""
+    dyn = dyn or Dynamics()
+    tip = np.asarray(tip, float)
+    rapid = np.asarray(rapid, bool)
+    feed = np.where(rapid, dyn.rapid, np.nan_to_num(np.asarray(feed, float), nan=dyn.feed))
+    t = chain_time(tip, feed, dyn, start=rapid).sum()
     hop = np.flatnonzero(rapid[1:]) + 1
     if len(hop):
         pair = np.empty((2 * len(hop), 3))
-        pair[0::2], pair[1::2] = tp.tip[hop - 1], tp.tip[hop]
+        pair[0::2], pair[1::2] = tip[hop - 1], tip[hop]
         st = np.zeros(2 * len(hop), bool)
         st[0::2] = True
-        t += chain_time(pair, dyn.rapid, dyn, start=st)[1::2].sum()
+        linear = chain_time(pair, dyn.rapid, dyn, start=st)[1::2]
+        if angles is not None and rapid_rotary:
+            turn = np.nan_to_num(np.abs(np.diff(np.asarray(angles, float), axis=0))).max(axis=1)[hop - 1]
+            linear = np.maximum(linear, 60.0 * turn / rapid_rotary)
+        t += linear.sum()
     return float(t) / 60.0

@@ -11,6 +11,7 @@ import json
 
 import numpy as np
 
+from ..criteria.kinematic_time import Dynamics, moves_time
 from ..export.apt_write import apt_toolpath
 from ..export.exchange import surface_dxf, surface_stl, toolpaths_dxf
 from ..export.kinematics import Kinematics, ReachError, Rotary
@@ -112,6 +113,17 @@ def _check_axes(post_cls, cfg: dict, plan) -> None:
                          "finish.source: offset")
 
 
+def _program_time(post, text: str, rapid_rate: float) -> float:
+    """Kinematic time (min) of the program as written, read back by its post: S-curve feed
+    moves (the default limits, the program's feeds), rapids at ``rapid_rate``, repositions
+    included, a rotary turn in a rapid at the kinematics' ``rapid_rotary``."""
+    mv = post.read(text)
+    ok = np.isfinite(mv.tip).all(axis=1)  # the header's moves before X Y Z are all known
+    kin = post.machine.kinematics
+    return moves_time(mv.tip[ok], mv.rapid[ok], mv.feed[ok], Dynamics(rapid=rapid_rate),
+                      mv.angles[ok] if kin is not None else None, kin.rapid_rotary if kin is not None else None)
+
+
 def build_operations(cfg: dict, base_dir=None, plan=None, max_bytes: float | None = None,
                      progress=None) -> tuple[dict[str, bytes], dict]:
     """(files, summary) of the whole operation set (module docstring); sizes checked first
@@ -177,6 +189,7 @@ def build_operations(cfg: dict, base_dir=None, plan=None, max_bytes: float | Non
         summary[name] = {"tool": {"number": tp.tool.number, "label": tp.tool.label()}, "points": len(tp.tip),
                          "nc_file": f"{name}{post.extension}",
                          "lengths_mm": tp.lengths(), "time_min": tp.time_minutes(post_cfg["rapid_rate"]),
+                         "kinematic_time_min": _program_time(post, nc.decode(), post_cfg["rapid_rate"]),
                          "nc_bytes": len(nc), "nc_lines": nc.count(b"\n"), "apt_bytes": len(apt),
                          "multi_axis": tp.multi_axis, "safety": safety}
     summary["roughing"].update(stats)

@@ -130,3 +130,33 @@ def test_an_nc_operation_pays_its_rapids_and_plunges_at_their_rates():
     cut = tp1 + t_change(F) + (200 - (P + F) / 2 * tp1 - F / 2 * t_change(F)) / F
     want = (40 / R + t_change(R)) + plunge + cut + (50 / R + t_change(R))
     assert toolpath_time(tp, Dynamics(rapid=10000.0)) * 60 == pytest.approx(want, rel=1e-9)
+
+
+def test_program_moves_pay_a_rotary_turn_in_a_rapid_at_the_rotary_rate():
+    from evoplan.problems.toolpath.criteria.kinematic_time import moves_time
+
+    # at the clearance plane: C turns 180 deg in place (a rapid), then a 200 mm feed move
+    tip = [[0, 0, 50], [0, 0, 50], [200, 0, 50]]
+    angles = [[10, 0], [10, 180], [10, 180]]
+    rapid, feed = [True, True, False], [np.nan, np.nan, 5000.0]
+    cut = 200 / F + t_change(F)  # rest to rest at F
+    assert moves_time(tip, rapid, feed, DYN) * 60 == pytest.approx(cut, rel=1e-9)  # no rotaries: 0 s turn
+    with_turn = moves_time(tip, rapid, feed, DYN, angles=angles, rapid_rotary=5400.0) * 60
+    assert with_turn == pytest.approx(cut + 180 / 5400 * 60, rel=1e-9)  # + 2 s
+
+
+def test_the_machine_summary_times_the_program_as_written():
+    # a finish that repositions at the clearance plane (abbas_gentle: 10 times) takes longer than
+    # its path length / feed, which summary.json's time_min alone hides (abbas_wide_z: 103
+    # repositions, 8.1 min against 2.2)
+    from evoplan.commands.machine import load
+    from evoplan.problems.toolpath.roughing.operation_set import build_operations
+    from pathlib import Path
+
+    runs = Path(__file__).resolve().parents[3] / "runs"
+    cfg = load(str(runs / "abbas_gentle.yaml")).model_dump()
+    _, s = build_operations(cfg, runs)
+    for op in ("roughing", "semifinish", "finish"):
+        assert s[op]["kinematic_time_min"] >= s[op]["time_min"] * 0.999, op
+    assert s["finish"]["safety"]["repositions"] == 10
+    assert s["finish"]["kinematic_time_min"] > 1.2 * s["finish"]["time_min"]  # 2.63 against 2.11 min
