@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import hashlib
+import shutil
 from typing import Any, Callable
 
 import pandas as pd
@@ -10,6 +12,7 @@ from .config import StudyConfig
 from .curves import DEFAULT_TARGETS, reference_values, step_history
 from .folder import StudyFolder, runs_frame
 from .measure import HV_MAX, deficit_runs, deficit_steps, multi_objective, unfixed_reference_points
+from .memo import AnalysisMemo
 from .ranking import bayesian, cd_diagram, friedman
 from .report import render
 from .statistics import BLOCK, compare, summarize
@@ -52,6 +55,15 @@ def _invocation(e: dict[str, Any]) -> str:
             f" (+{e.get('startup_seconds', 0)} s start-up), {e['reused']} reused, {e.get('finished', '')}")
 
 
+def run_files(folder: StudyFolder, keys) -> str:
+    """A digest of the history and trace files of the runs ``keys`` (what the curves are drawn from)."""
+    h = hashlib.sha256()
+    for key in keys:
+        for path in (folder.histories / f"{key}.csv", folder.traces / f"{key}.csv"):
+            h.update(path.read_bytes() if path.is_file() else b"-")
+    return h.hexdigest()
+
+
 def analyze(study: StudyConfig, folder: StudyFolder, records: list[dict[str, Any]],
             history: Callable[[str], pd.DataFrame], reference_levels: dict[str, str],
             executions: list[dict[str, Any]]) -> None:
@@ -79,9 +91,16 @@ def analyze(study: StudyConfig, folder: StudyFolder, records: list[dict[str, Any
     ranks, pairs, diagrams = friedman(runs, reference, reference_levels)
     folder.write_table("friedman.csv", ranks)
     folder.write_table("nemenyi.csv", pairs)
-    bayes = bayesian(runs, reference, reference_levels, st.rope) if len(ok_runs) else None
-    if bayes is not None:
-        folder.write_table("bayes.csv", bayes)
+    memo = AnalysisMemo(folder.out)
+    values = runs.drop(columns=["wall_seconds"])  # what the costly outputs read of the runs
+    bayes = None
+    if len(ok_runs):
+        if memo.fresh("bayes.csv", memo.key("bayes", values, reference, reference_levels, st.rope)):
+            bayes = pd.read_csv(folder.out / "bayes.csv", dtype={"factor": str, "level": str})
+            bayes[["factor", "level"]] = bayes[["factor", "level"]].fillna("")
+        else:
+            bayes = bayesian(runs, reference, reference_levels, st.rope)
+            folder.write_table("bayes.csv", bayes)
     f_ref = reference_values(runs)
     known = runs.groupby(BLOCK)["optimum"].first()
     if hv_max is not None:
@@ -94,31 +113,47 @@ def analyze(study: StudyConfig, folder: StudyFolder, records: list[dict[str, Any
             return deficit_steps(history(key), float(hv_max.loc[tuple(block)]))
         return step_history(folder.trace(key), history(key))
 
+    left_out_text = "; ".join(f"{_variant(r)} ({r.failed} of {r.runs} runs failed)" for r in left_out.itertuples())
+    traces = run_files(folder, runs["key"])  # what the curves and the export are drawn from
     if study.output.ioh and len(ok_runs) and hv_max is None:  # IOHprofiler's format is single-objective
-        from .ioh_export import export
         from .ioh_ids import functions
 
         ids = functions((spec.label or spec.name, spec.name, spec.params) for spec in study.problems)
-        export(folder.out, runs, folder.trace, known, ids)
-    left_out_text = "; ".join(f"{_variant(r)} ({r.failed} of {r.runs} runs failed)" for r in left_out.itertuples())
+        if not memo.fresh("ioh", memo.key("ioh", values, traces, known, repr(ids))):
+            from .ioh_export import export
+
+            shutil.rmtree(folder.out / "ioh", ignore_errors=True)  # no file of an earlier export stays
+            export(folder.out, runs, folder.trace, known, ids)
     names = []
     if study.output.plots and len(ok_runs):
-        from . import figures
+        def figures():  # matplotlib is imported only if a figure is drawn
+            from . import figures as module
+
+            return module
+
+        def cd():
+            colors = {name: style["color"] for name, style in figures().variant_styles(runs).items()}
+            return cd_diagram(diagrams, st.alpha, colors, left_out_text)
 
         plots = {
-            "figures/convergence.png": lambda: figures.convergence(runs, steps, known),
-            "figures/final_values.png": lambda: figures.final_boxes(runs, known),
-            "figures/ecdf.png": lambda: figures.ecdf_figure(runs, steps, f_ref, targets),
+            "figures/convergence.png": lambda: figures().convergence(runs, steps, known),
+            "figures/final_values.png": lambda: figures().final_boxes(runs, known),
+            "figures/ecdf.png": lambda: figures().ecdf_figure(runs, steps, f_ref, targets),
         }
         if diagrams:
-            colors = {name: style["color"] for name, style in figures.variant_styles(runs).items()}
-            plots["figures/critical_difference.png"] = lambda: cd_diagram(diagrams, st.alpha, colors, left_out_text)
+            plots["figures/critical_difference.png"] = cd
         if (runs["factor"] != "").any():
-            plots["figures/factor_effects.png"] = lambda: figures.factor_effects(runs, known)
-            plots["figures/factor_generations.png"] = lambda: figures.factor_generations(runs, history, known)
+            plots["figures/factor_effects.png"] = lambda: figures().factor_effects(runs, known)
+            plots["figures/factor_generations.png"] = lambda: figures().factor_generations(runs, history, known)
+        inputs = memo.key(values, runs_all.drop(columns=["wall_seconds"]), traces, known,
+                          f_ref, known.name, left_out_text)
+        settings = {"figures/ecdf.png": list(map(float, targets)),
+                    "figures/critical_difference.png": [st.alpha, reference, reference_levels]}
         for name, draw in plots.items():
-            folder.write_bytes(name, draw())
+            if not memo.fresh(name, memo.key(name, inputs, settings.get(name))):
+                folder.write_bytes(name, draw())
             names.append(name)
+    memo.save()
     meta = {
         "grid": f"{runs_all['problem'].nunique()} problems, {runs_all.groupby(BLOCK).ngroups} problem x dimension, "
                 f"{summary.groupby(['algorithm', 'factor', 'level']).ngroups} variants, {study.seeds} seeds "
