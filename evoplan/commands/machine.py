@@ -37,7 +37,8 @@ def add_parser(sub) -> argparse.ArgumentParser:
     p.add_argument("--quiet", action="store_true", help="no progress line")
     p.add_argument("--check", action="store_true",
                    help="read every 5-axis program back and verify the safety rules (clearance plane "
-                        "for rotary turns and at the end, no table turn near the pole); exit 1 if one fails")
+                        "for rotary turns and at the end, no table turn near the pole); one line, exit 2 "
+                        "and nothing written if one fails")
     return p
 
 
@@ -104,7 +105,8 @@ def main(args: argparse.Namespace) -> int:
                   if isinstance(s, dict) and s.get("safety") and s["safety"]["violations"]}
         if failed:
             op, v = next(iter(failed.items()))
-            raise EvoplanError(f"{args.config}: --check: {op}.nc breaks {len(v)} safety rule(s), first: {v[0]}")
+            raise EvoplanError(f"{args.config}: --check: {summary[op]['nc_file']} breaks {len(v)} safety rule(s), "
+                               f"first: {v[0]}")
     write_folder(out, files)  # all files or none (a full disk: one line)
     record = {"out": str(out), **{op: {k: summary[op][k] for k in ("nc_file", "time_min", "nc_bytes")}
                                   for op in ("roughing", "semifinish", "finish")}}

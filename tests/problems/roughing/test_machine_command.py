@@ -209,3 +209,26 @@ def test_post_tolerance_reduces_the_three_axis_programs_only(tmp_path):
     a, b = a[np.isfinite(a).all(axis=1)], b[np.isfinite(b).all(axis=1)]
     d = np.min([segment_distance(a, b[k], b[k + 1]) for k in range(len(b) - 1)], axis=0)
     assert d.max() <= 0.01 + 1e-4
+
+
+def test_check_refuses_a_program_that_breaks_a_rule(tmp_path, capsys, monkeypatch):
+    from evoplan.problems.toolpath.export.safety import SafetyReport
+    from evoplan.problems.toolpath.roughing import operation_set
+
+    real = operation_set.check_program
+
+    def broken(post, text, safe_z):  # the finish as if its retract before G49 were missing
+        rep = real(post, text, safe_z)
+        if "(FINISH)" in text[:300]:
+            rep = SafetyReport(["move 812: TCP is cancelled at Z 7.000, below the clearance plane 45.000"])
+        return rep
+
+    monkeypatch.setattr(operation_set, "check_program", broken)
+    cfg = str(config(tmp_path, dialect="fanuc"))
+    assert cli_main(["machine", cfg, "--out", str(tmp_path / "out"), "--check", "--quiet"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "--check: finish.nc breaks 1 safety rule(s), first: move 812: TCP is cancelled" in err[0]
+    assert not (tmp_path / "out").exists()
+    # without --check the program is written and its summary names the broken rule
+    assert cli_main(["machine", cfg, "--out", str(tmp_path / "w"), "--quiet"]) == 0
+    assert json.loads((tmp_path / "w" / "summary.json").read_text())["finish"]["safety"]["violations"]
