@@ -131,7 +131,8 @@ def _nc_path(args):
         raise ConfigError(f"--tool {args.tool!r}: give the cutter as D[,r] in mm (d > 0, 0 <= r <= D/2)") from None
     kin = Kinematics("table_table", Rotary("A", "x", (-120, 120)), Rotary("C", "z", (-1e6, 1e6)))
     try:
-        tp = read_gcode(args.nc, make_cutter(d, r, key="--tool"), kin)
+        # arcs as chords of 1 um: the cut is the arc, not a polygon 10 um inside it
+        tp = read_gcode(args.nc, make_cutter(d, r, key="--tool"), kin, chord_tol=1e-3)
         return CLPath.from_apt(tp), None, f"NC file {Path(args.nc).name}", _read_facts(tp)
     except (GcodeError, OSError, ValueError) as e:
         raise ConfigError(f"{args.nc}: {e}") from None

@@ -236,6 +236,7 @@ def test_simulate_nc_reads_the_arcs(tmp_path, capsys):
     capsys.readouterr()
     assert out["b"]["gouge_max_mm"] > 1.0  # the curve does cut
     for key in ("gouge_max_mm", "uncut_fraction"):
-        assert out["a"][key] == pytest.approx(out["b"][key], abs=2 * TOL), key
+        # the reduced program lies within TOL of the plan and simulate reads its arcs at 1 um
+        assert out["a"][key] == pytest.approx(out["b"][key], abs=TOL + 2e-3), key
     blocks = sum(line.startswith(("G1", "G2", "G3", "X", "Y", "Z")) for line in (tmp_path / "a.nc").read_text().splitlines())
     assert out["a"]["cl_points"] > blocks  # the arcs were read as points, not as their end points
