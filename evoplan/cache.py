@@ -134,8 +134,13 @@ def spread(keys: np.ndarray) -> np.ndarray:
 
 def first_occurrence(keys: np.ndarray) -> np.ndarray:
     """For each key, the index of its first occurrence in ``keys``: one stable ``argsort``, the
-    runs of equal keys marked, each run's first index given to all its members."""
+    runs of equal keys marked and each run's first index given to all its members; below 64
+    keys, where the sort's fixed cost dominates, one dict pass."""
     n = len(keys)
+    if n < 64:
+        listed = keys.tolist()
+        seen = dict(zip(reversed(listed), range(n - 1, -1, -1)))  # the earliest index is written last
+        return np.fromiter(map(seen.__getitem__, listed), dtype=np.intp, count=n)
     order = np.argsort(keys, kind="stable")  # equal keys keep batch order: a run starts at its first
     ordered = keys[order]
     starts = np.empty(n, dtype=bool)
