@@ -40,18 +40,20 @@ def finish(planner, n, zones, sec, reverse, start, count, pts, seg, tool, genes,
     p = pt["p"]
     on_part, shift = np.ones(len(p), bool), np.zeros_like(p)
     if planner.edge_overrun:
-        ahead = np.zeros(len(p))
+        ahead, rho = np.zeros(len(p)), np.zeros(len(p))
         for t in np.unique(tool[ind_pt]):
             sel = tool[ind_pt] == t
             off = planner.tools.cutter(t).cc_to_tip(p[sel], pt["normal"][sel], axis[sel]) - p[sel]
             tan = pt["tangent"][sel]
             ahead[sel] = np.sum(off[:, :2] * tan[:, :2], axis=1) / np.maximum(
                 np.linalg.norm(tan[:, :2], axis=1), 1e-300)
+            rho[sel] = np.linalg.norm(off[:, :2], axis=1)
         wedge = 1.0 if machine.wedge else 0.0  # Machine.wedge
         pt, start, count, on_part, shift, (x_sec, x_len) = add_overrun(
             pt, start, count, at_head, at_tail,
             wedge * np.where(reverse, sec["run_hi"], sec["run_lo"]),
-            wedge * np.where(reverse, sec["run_lo"], sec["run_hi"]), ahead)
+            wedge * np.where(reverse, sec["run_lo"], sec["run_hi"]), ahead,
+            reach=wedge * rho)  # a drop-cutter's ring at the contact's radius (overrun.py)
         seg = {"sec": np.r_[seg["sec"], x_sec], "err": np.r_[seg["err"], 0.0 * x_len],
                "len": np.r_[seg["len"], x_len],
                "cc": np.r_[seg["cc"], np.zeros(len(x_sec), bool)]}

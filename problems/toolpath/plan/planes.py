@@ -27,6 +27,37 @@ from ..geometry.surface import Surface
 
 __all__ = ["PassGeometry"]
 
+#: degrees: a footprint's boundary turning by more than this at a vertex is a corner
+CORNER_DEG = 10.0
+
+
+def _with_corners(grid, loops, c, tol):
+    """The offsets ``grid`` (sorted) with the offsets c . p of the footprint's corners (the
+    loops' vertices where the boundary turns by more than ``CORNER_DEG``) added, those
+    within ``tol`` of a node left out. A plane's extent along the feed is linear in its
+    offset between two corners' offsets (the boundary is straight or smooth there) but
+    has a kink at each one: a table on a uniform grid interpolates across the kink, and a
+    plane near a corner gets the extent of a plane a grid step away (measured: the last
+    plane of a zone fed at 179.5 deg on Choi's square, 0.5 mm from the edge, got 42.2 of
+    its 50.8 mm)."""
+    extra = []
+    for lp in loops:
+        a = np.asarray(lp, float)
+        a = a[np.r_[True, np.any(np.abs(np.diff(a, axis=0)) > 1e-12, axis=1)]]
+        if len(a) > 1 and np.allclose(a[0], a[-1]):
+            a = a[:-1]  # the loop closed on its first point; repeated points dropped
+        e_in = a - np.roll(a, 1, axis=0)
+        e_out = np.roll(a, -1, axis=0) - a
+        cross = e_in[:, 0] * e_out[:, 1] - e_in[:, 1] * e_out[:, 0]
+        turn = np.abs(np.arctan2(cross, np.sum(e_in * e_out, axis=1)))
+        extra.append(a[turn > np.radians(CORNER_DEG)] @ c)
+    extra = np.concatenate(extra) if extra else np.zeros(0)
+    extra = extra[(extra > grid[0] + tol) & (extra < grid[-1] - tol)]
+    near = np.abs(extra[:, None] - grid[None, :]).min(axis=1, initial=np.inf) <= tol
+    out = np.unique(np.concatenate([grid, extra[~near]]))
+    keep = np.r_[True, np.diff(out) > tol]
+    return out[keep]
+
 
 class PassGeometry:
     """Gene-independent tables of the pass planes over a surface for one feed direction.
@@ -59,7 +90,9 @@ class PassGeometry:
         if not self.width > 0:
             raise ValueError("surface: the footprint has no width across the feed direction")
         eps = 1e-9 * self.width
-        self.d_grid = np.linspace(self.d_min + eps, self.d_max - eps, n_d)
+        self.d_grid = _with_corners(np.linspace(self.d_min + eps, self.d_max - eps, n_d),
+                                    loops, self.c, 1e-6 * self.width)
+        n_d = len(self.d_grid)
         self.tau_grid = np.linspace(0.0, 1.0, n_tau)
         # extent of each plane in the footprint: crossings of the closed boundary polyline
         da, db = bd, b @ self.c
@@ -113,9 +146,9 @@ class PassGeometry:
         return u, v, j.p + j.su * du[:, None] + j.sv * dv[:, None]
 
     def _index(self, d):
-        jf = (d - self.d_grid[0]) / (self.d_grid[-1] - self.d_grid[0]) * (len(self.d_grid) - 1)
-        j0 = np.clip(np.floor(jf).astype(int), 0, len(self.d_grid) - 2)
-        return j0, np.clip(jf - j0, 0.0, 1.0)
+        g = self.d_grid
+        j0 = np.clip(np.searchsorted(g, d, side="right") - 1, 0, len(g) - 2)
+        return j0, np.clip((d - g[j0]) / (g[j0 + 1] - g[j0]), 0.0, 1.0)
 
     def pass_extent(self, d):
         """(s_lo, s_hi) of planes d: (n,) each (linear in the d table)."""
