@@ -291,8 +291,11 @@ def test_contour_loops_are_nested_and_never_cross():
         rings.append(shapely.Polygon(surface.jet(uv[:, 0], uv[:, 1], order=0).p[:, :2]))
     for outer, inner in zip(rings[:-1], rings[1:]):
         assert outer.contains(inner) and not outer.exterior.intersects(inner.exterior)
+    corners = []
+    contour_loops(pl, pl.layouts.get(None, 0), 0, tools.cutter(0), H_C, corners=corners)
+    assert corners  # the square footprint's loops keep sharp corners
     batch = pl.plan(_genes(), place=False)
-    assert len(np.unique(batch.sec_pass)) == len(loops)
+    assert len(np.unique(batch.sec_pass)) == len(loops) + len(corners)
 
 
 def test_untangle_cuts_a_swallowtail_at_its_crossing():
@@ -342,7 +345,8 @@ def test_contour_spiral_link_is_one_continuous_section_through_the_nested_loops(
     plans = {}
     for link in ("loops", "spiral"):
         pl = Planner(surface, tools, machine="3axis", spacing="scallop", h_c=H_C,
-                     feed_angle=0.0, strategy={"name": "contour", "link": link})
+                     feed_angle=0.0, strategy={"name": "contour", "link": link,
+                                               "corners": False})
         plans[link] = pl.plan(_genes(), place=False)
     loops, sp = plans["loops"], plans["spiral"]
     assert len(loops.sec_ind) > 5 and len(sp.sec_ind) == 1  # one offset chain, one spiral
@@ -352,3 +356,38 @@ def test_contour_spiral_link_is_one_continuous_section_through_the_nested_loops(
     assert np.allclose(sp.p[0], loops.p[0]) and np.allclose(sp.p[-1], loops.p[-1])
     with pytest.raises(ValueError, match=r"^strategy\.link: expected loops or spiral"):
         get_strategy({"name": "contour", "link": "zigzag"})
+
+
+def test_contour_corner_passes_bring_the_corners_of_nested_loops_under_h_c():
+    """On a plane (ball, the loops exactly w apart) the nested offsets of the rectangle keep
+    its corners: the cut simulation finds the cusp on their diagonals over 1.1 h_c (0.586
+    of a step from the nearest loop against 0.5 between edges: ~1.37 h_c); with the corner
+    passes along the bisectors the plan meets h_c, the loops unchanged."""
+    from evoplan.problems.toolpath.plan.strategies.contour import corner_segments
+    from evoplan.problems.toolpath.simulation.metrics import meets_h_c
+
+    surface, tools = _plane(), parse_tools(BALL)
+    grid = design_grid(surface, 0.2)
+    sims, plans = {}, {}
+    for corners in (False, True):
+        pl = Planner(surface, tools, machine="3axis", spacing="scallop", h_c=H_C,
+                     feed_angle=0.0, strategy={"name": "contour", "corners": corners})
+        plans[corners] = pl.plan(_genes(), place=False)
+        sims[corners] = simulate(pl.cl_path(_genes()), grid, allowance=0.5).metrics
+    assert sims[False]["scallop_max_mm"] > 1.25 * H_C
+    assert meets_h_c(sims[True], H_C, 0.01) == (True, [])
+    # the corner passes come after the loops, which stay as they were
+    n = len(plans[False].sec_ind)
+    a, b = plans[False], plans[True]
+    assert len(b.sec_ind) > n
+    end = a.sec_start[n - 1] + a.sec_count[n - 1]
+    assert np.array_equal(a.p[:end], b.p[:end])
+    # a corner pass runs from a loop's corner along the bisector: a square's, at 45 deg
+    import shapely
+    sq = shapely.box(0, 0, 4, 4)
+    seg = corner_segments([[sq.exterior], [sq.buffer(-1, join_style="mitre").exterior]],
+                          [1.0])
+    assert len(seg) == 4
+    for _, xy in seg:
+        d = xy[-1] - xy[0]
+        assert np.isclose(np.linalg.norm(d), np.sqrt(2)) and np.isclose(abs(d[0]), abs(d[1]))

@@ -11,7 +11,9 @@ of the inward cross-feed), until nothing is left. Each loop is one section, clos
 start moved to the point nearest the previous loop's end (short links). CC points lie on
 the surface above the loops (the XY offsets mapped back to (u, v)). ``link: spiral`` cuts
 every run of offsets that stay one loop as one spiral (:func:`spiral`) instead of closed
-loops linked across.
+loops linked across. ``corners`` (default true): after the loops, a pass along the bisector
+of every convex corner from one loop to the next (:func:`corner_segments`: nested offsets
+keep sharp corners, step / sin(theta / 2) apart).
 """
 
 from __future__ import annotations
@@ -56,14 +58,71 @@ def _to_uv(geom, xy):
     return np.column_stack(geom._newton(d, s, u0, v0, iters=8))
 
 
-def contour_loops(planner, layout, z, cutter, h_c, lead_tilt=None, ds=0.5, max_loops=2000):
-    """[[Piece]] per offset distance (outside in) of zone z."""
+#: degrees: a loop turning by more than this at a vertex has a corner (a buffer's rounded
+#: arcs turn 11.25 deg a vertex)
+CORNER_DEG = 30.0
+
+
+def _corners(ring, min_turn_deg: float = CORNER_DEG) -> np.ndarray:
+    """The convex corners (XY, (K, 2)) of a closed ring: vertices where it turns towards
+    its inside by more than ``min_turn_deg``."""
+    import shapely
+
+    xy = np.asarray(ring.coords)[:-1]
+    if len(xy) < 3:
+        return np.zeros((0, 2))
+    if not shapely.LinearRing(xy).is_ccw:
+        xy = xy[::-1]
+    e_in, e_out = xy - np.roll(xy, 1, axis=0), np.roll(xy, -1, axis=0) - xy
+    cross = e_in[:, 0] * e_out[:, 1] - e_in[:, 1] * e_out[:, 0]
+    turn = np.degrees(np.arctan2(cross, np.sum(e_in * e_out, axis=1)))  # > 0: left (convex)
+    return xy[turn > min_turn_deg]
+
+
+def corner_segments(rings, steps, ds: float = 0.5):
+    """Corner passes: XY polylines from every convex corner of each loop to the nearest
+    point of the next loop inwards, where that is farther than the loops' spacing (``rings``
+    per offset distance, ``steps`` the spacing to the next). An inward offset keeps a
+    polygon's convex corners sharp, so nested loops that are ``step`` apart along their
+    edges are step / sin(theta / 2) apart at a corner of interior angle theta (step sqrt 2
+    at a square's): halfway along the bisector the nearest loop is 0.586 step away on a
+    square's, 17 % over the 0.5 step between straight loops, and a cusp ~ width^2 stands 37 %
+    higher (measured: 0.367 mm on Choi's surface, ball, h_c 0.254, on the diagonals). A pass
+    along the bisector from each corner to the next loop leaves every point of the corner
+    within half a step of a pass."""
+    import shapely
+
+    out = []
+    for k in range(len(rings) - 1):
+        nxt = shapely.MultiLineString([list(r.coords) for r in rings[k + 1]]) \
+            if rings[k + 1] else None
+        if nxt is None:
+            continue
+        for ring in rings[k]:
+            for c in _corners(ring):
+                pt = shapely.Point(c)
+                q = nxt.interpolate(nxt.project(pt))
+                end = np.array([q.x, q.y])
+                if np.linalg.norm(end - c) <= 1.05 * steps[k]:
+                    continue  # the next loop is as close as along the edges: no corner left
+                n_pts = max(int(np.ceil(np.linalg.norm(end - c) / ds)), 1) + 1
+                f = np.linspace(0.0, 1.0, n_pts)[:, None]
+                out.append((k, (1 - f) * c + f * end))
+    return out
+
+
+def contour_loops(planner, layout, z, cutter, h_c, lead_tilt=None, ds=0.5, max_loops=2000,
+                  corners=None):
+    """[[Piece]] per offset distance (outside in) of zone z. ``corners``: a list that
+    receives the corner passes (:func:`corner_segments`) as pieces (gap 0: no scallop
+    measured against them)."""
     import shapely
 
     surface = planner.surface
     geom = planner.geometry(0.0)
     poly = zone_polygon(surface, layout.labels, z)
     out, dist, end, prev, spine = [], 0.0, None, None, False
+    all_rings, all_steps = [], []
     for k in range(max_loops):
         region = poly if dist == 0 else poly.buffer(-dist)
         if region.is_empty and prev is not None and not spine:
@@ -104,11 +163,22 @@ def contour_loops(planner, layout, z, cutter, h_c, lead_tilt=None, ds=0.5, max_l
         if not pieces:
             break
         step = max(min(steps), 1e-3)
+        all_rings.append(rings)
+        all_steps.append(step)
         out.append([Piece(uv, cross, np.full(len(uv), 0.0 if spine else step), z, k,
                           layout.alpha[z]) for uv, cross in pieces])
         if spine:
             break
         prev, dist = dist, dist + step
+    if corners is not None:
+        for k, xy in corner_segments(all_rings, all_steps, ds):
+            seg = np.diff(xy, axis=0)
+            side = np.column_stack([-seg[:, 1], seg[:, 0]])
+            side = np.vstack([side, side[-1:]])
+            side /= np.maximum(np.linalg.norm(side, axis=1, keepdims=True), 1e-300)
+            corners.append(Piece(_to_uv(geom, xy), np.column_stack([side, np.zeros(len(xy))]),
+                                 np.zeros(len(xy)), z, len(out) + len(corners),
+                                 layout.alpha[z]))
     return out
 
 
@@ -145,19 +215,26 @@ def spiral(loops):
 
 class Contour(CurveStrategy):
     name = "contour"
-    KEYS = {"resample": 0.5, "link": "loops"}
+    KEYS = {"resample": 0.5, "link": "loops", "corners": True}
 
     def __init__(self, settings=None, key="strategy"):
         super().__init__(settings, key)
         if self.settings["link"] not in ("loops", "spiral"):
             raise ValueError(f"{key}.link: expected loops or spiral, got "
                              f"{self.settings['link']!r}")
+        if not isinstance(self.settings["corners"], bool):
+            raise ValueError(f"{key}.corners: expected true or false, got "
+                             f"{self.settings['corners']!r}")
 
     def zone_passes(self, planner, layout, z, cutter, lead_tilt):
+        # then the corner passes, after the loops (corner_segments; corners: false, none)
+        corners = []
         loops = contour_loops(planner, layout, z, cutter, planner.h_c, lead_tilt,
-                              float(self.settings["resample"]))
+                              float(self.settings["resample"]),
+                              corners=corners if self.settings["corners"] else None)
         if self.settings["link"] == "loops":
-            return [pc for pieces in loops for pc in pieces]  # every loop the same way round
+            # every loop the same way round
+            return [pc for pieces in loops for pc in pieces] + corners
         out, chain = [], []
         for pieces in loops:  # a spiral through every run of offsets that stay one loop
             if len(pieces) == 1:
@@ -169,4 +246,4 @@ class Contour(CurveStrategy):
             out.extend(pieces)
         if chain:
             out.append(spiral(chain))
-        return out
+        return out + corners
