@@ -82,6 +82,22 @@ def test_no_cc_point_and_no_cut_cell_in_the_hole(top, zoned):
     assert cut.sum() > 0.95 * grid.inside.sum()  # the face around the hole is machined
 
 
+def test_isoscallop_passes_are_cut_at_the_trimming_loops(top):
+    """Iso-scallop offsets propagate across the hole, but are cut where they leave the
+    face (130 of 1225 CC points lay in the hole or the notch before): none is off it, the
+    pieces there end on the part's edge, and the face around them is machined."""
+    planner = Planner(top, parse_tools(BALL), machine="3axis", spacing="scallop", h_c=0.254,
+                      feed_angle=0.0, strategy="isoscallop")
+    genes = {"tool": np.array([0]), "step": np.array([3.0])}
+    batch = planner.plan(genes)
+    cc = batch.p[batch.on_part]
+    assert len(cc) > 500 and not off_face(cc[:, :2], 2 * DEFLECTION).any()
+    grid = design_grid(top, 0.5)
+    res = sweep_path(planner.cl_path(genes), grid).values
+    cut = grid.inside & np.isfinite(res) & (res < 0.5)
+    assert cut.sum() > 0.95 * grid.inside.sum()
+
+
 def test_the_committed_part_is_what_its_script_makes(tmp_path):
     import importlib.util
 

@@ -26,7 +26,10 @@ Per zone (the planner's zone layout: labels, feed direction alpha, adaptive plan
 - **Clean-up**: the loops of the new pass (the swallowtail where the pass bends towards
   its offsets) are cut out at their crossing (``offsets.untangle``); the pass is
   resampled every ``resample`` mm of arc; points past the footprint are clipped, keeping
-  the crossing point on the edge; the propagation stops when no point is left.
+  the crossing point on the edge; the propagation stops when no point is left. On a
+  trimmed footprint (a CAD face's hole or notch) the passes are cut where they leave its
+  loops (``Footprint.contains``; ends there on the part's edge: the travel runs on past
+  them) and propagate on across the hole.
 - **Zone**: a pass is cut wherever it or its offset lies in the zone (the band rule of
   parallel planes: the two passes around every zone point are cut beside it, so zoned
   plans keep cutting their borders), run on half the cutter's radius past it (the next
@@ -42,6 +45,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.ndimage import maximum_filter1d, minimum_filter1d, uniform_filter1d
 
+from ...geometry.footprint import footprint_of
 from ...geometry.surface import unit_normal
 from ..curves import Piece
 from ..zoning.stepover import ScallopTarget
@@ -94,6 +98,7 @@ def zone_passes(planner, layout, z, cutter, h_c, lead_tilt=None, offset=None, ds
 def _propagate(planner, layout, z, cutter, h_c, lead_tilt, master, sign, ds, max_passes,
                window=2.0, settle=2):
     surface, alpha = planner.surface, layout.alpha[z]
+    fp = footprint_of(surface)
     c0 = sign * np.array([-np.sin(alpha), np.cos(alpha), 0.0])
     front = [master]
     out = []
@@ -123,13 +128,18 @@ def _propagate(planner, layout, z, cutter, h_c, lead_tilt, master, sign, ds, max
                 # between their ends would stay uncut
                 band = maximum_filter1d(band.astype(np.int8), 2 * int(np.ceil(
                     0.5 * cutter.radius / ds)) + 1, mode="nearest").astype(bool)
-            for a, e in runs(band):
-                pieces.append(Piece(uv[a:e], cross[a:e], gap[a:e], z, k, alpha))
+            on = np.ones(len(uv), bool) if fp.whole else fp.contains(uv[:, 0], uv[:, 1])
+            for a, e in runs(band & on):  # a trimmed footprint: cut at its loops too, the
+                # ends there on the part's edge (the travel runs on past them)
+                pieces.append(Piece(uv[a:e], cross[a:e], gap[a:e], z, k, alpha,
+                                    (a > 0 and not on[a - 1], e < len(uv) and not on[e])))
             for a, e in runs(~in_box & here):  # the offset leaves the footprint: the edge
                 edge = np.clip(nxt[a:e], 0.0, 1.0)
-                if e - a >= 2:
-                    border.append(Piece(edge, np.zeros((e - a, 3)), np.zeros(e - a), z, k + 1,
-                                        alpha, (True, True)))
+                keep = np.ones(len(edge), bool) if fp.whole else fp.contains(*edge.T)
+                for a2, e2 in runs(keep):
+                    if e2 - a2 >= 2:
+                        border.append(Piece(edge[a2:e2], np.zeros((e2 - a2, 3)),
+                                            np.zeros(e2 - a2), z, k + 1, alpha, (True, True)))
             # the next front: its loops cut out (the swallowtail where this pass bends
             # towards its offsets: the corner left is where the two arms meet), clipped to
             # the footprint (crossings kept)
@@ -142,8 +152,8 @@ def _propagate(planner, layout, z, cutter, h_c, lead_tilt, master, sign, ds, max
                 new_front.append(resample(surface, extend_to_edge(
                     np.clip(untangle(nxt[a:e]), 0.0, 1.0)), ds))
         for pc in pieces:
-            pc.edge = (bool(np.any((pc.uv[0] <= 1e-7) | (pc.uv[0] >= 1 - 1e-7))),
-                       bool(np.any((pc.uv[-1] <= 1e-7) | (pc.uv[-1] >= 1 - 1e-7))))
+            pc.edge = (pc.edge[0] or bool(np.any((pc.uv[0] <= 1e-7) | (pc.uv[0] >= 1 - 1e-7))),
+                       pc.edge[1] or bool(np.any((pc.uv[-1] <= 1e-7) | (pc.uv[-1] >= 1 - 1e-7))))
         if pieces:
             out.append(pieces)
         if border:
