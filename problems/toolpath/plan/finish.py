@@ -53,7 +53,7 @@ def finish(planner, n, zones, sec, reverse, start, count, pts, seg, tool, genes,
             pt, start, count, at_head, at_tail,
             wedge * np.where(reverse, sec["run_hi"], sec["run_lo"]),
             wedge * np.where(reverse, sec["run_lo"], sec["run_hi"]), ahead,
-            reach=wedge * rho)  # a drop-cutter's ring at the contact's radius (overrun.py)
+            reach=wedge * rho)  # the contact's distance from the axis (overrun.py)
         seg = {"sec": np.r_[seg["sec"], x_sec], "err": np.r_[seg["err"], 0.0 * x_len],
                "len": np.r_[seg["len"], x_len],
                "cc": np.r_[seg["cc"], np.zeros(len(x_sec), bool)]}

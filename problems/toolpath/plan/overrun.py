@@ -10,16 +10,16 @@ set against 0.10 mm with the run-on). So every section end on the footprint's bo
 ``n`` more CL points along the travel, until the tool's centre reaches the end CC point;
 ``planner.py`` adds, for a 3-axis drop-cutter plan, how far the plane's band extends past
 the plane along an oblique edge (the wedge between two passes that meet the edge at
-different places), and runs the tool's centre on at least by its contact's horizontal
-distance rho from the axis (``reach``). A vertical tool touches the part at rho from its
-axis; the points beside the contact, across the feed, where the cusps between passes and
-the strip along a zone's last pass are cut, are cut by the ring of the tool at about that
-distance from the axis, whose rearmost point lags the axis by rho: the edge row is swept by
-the whole ring only once the axis has passed the end CC point by rho. Measured on Choi's
-surface (torus r 1, h_c 0.254 mm, 0.05 mm grid): without it the edge rows of the zoned
-plans rose to 0.307-0.365 mm (the travel stopped where the contact reached the edge, with
-no run-on at all where the surface falls towards the edge); with it they stay under the
-interior's 0.28 mm (``runs/reproduce/run_files_h_c.md``). A 3-axis tool keeps its height from the drop-cutter (it touches the
+different places). Where the surface falls towards the end (the tool's centre already
+past the end CC point along the travel, so the rules above add nothing), the centre runs on
+until it is past the end CC point by the contact's horizontal distance rho from the axis
+(``reach``; rho is the along-travel offset alone where the surface slopes only along the
+feed, so nothing is added then, and a ball on a plane needs nothing there: the lowest
+position of its lower surface above any point beside the contact comes before the contact
+reaches the edge). Measured on Choi's surface (torus r 1, h_c 0.254 mm, 0.05 mm grid, the
+AMAS plan): without it the edge column, where a zone's passes end on the part's edge with
+the surface falling towards it along and across the feed, rose to 0.307 mm against
+<= 0.28 mm inside (run-ons of 0.1-2 mm all brought it down). A 3-axis tool keeps its height from the drop-cutter (it touches the
 part's edge and nowhere penetrates it); a 5-axis tool runs on along the travel tangent with
 the end point's axis.
 
@@ -43,17 +43,20 @@ def edge_overrun(points: dict, sec_start, sec_count, at_head, at_tail, head_leng
     lies on the footprint's edge; ``head_length`` / ``tail_length`` (S,) mm: how far past
     the first / last CC point the tool's centre goes; ``ahead`` (N,): how far along the
     travel the tool's centre already is from each CC point (a vertical cutter tangent on a
-    slope sits downhill of its contact), so only the rest is added. Returns (points with the new rows,
+    slope sits downhill of its contact), so only the rest is added; ``reach`` (N,) mm,
+    optional: how far past an end CC point the centre goes at least where the surface falls
+    towards that end (the centre already past it). Returns (points with the new rows,
     sec_start, sec_count, on_part (N',), shift (N', 3) the offset of each row from the
     point it repeats, (seg_sec, seg_len) of the added moves)."""
     sec_start, sec_count = np.asarray(sec_start), np.asarray(sec_count)
     first, last = sec_start, sec_start + sec_count - 1
     ahead = np.asarray(ahead, float)
     head_length, tail_length = np.asarray(head_length, float), np.asarray(tail_length, float)
-    if reach is not None:
+    if reach is not None:  # where the surface falls towards the end: the tool's centre
+        # is past the end CC point already (ahead of it along the travel towards the edge)
         reach = np.asarray(reach, float)
-        head_length = np.maximum(head_length, reach[first])
-        tail_length = np.maximum(tail_length, reach[last])
+        head_length = np.maximum(head_length, np.where(ahead[first] < 0, reach[first], 0.0))
+        tail_length = np.maximum(tail_length, np.where(ahead[last] > 0, reach[last], 0.0))
     # how far the tool's centre still has to go past each end (0: it is already there)
     reach_head = np.maximum(head_length + ahead[first], 0.0)
     reach_tail = np.maximum(tail_length - ahead[last], 0.0)
