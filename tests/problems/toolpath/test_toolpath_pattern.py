@@ -205,3 +205,22 @@ def test_feed_direction_rotates_the_passes():
     for k in ("cc_count", "n_passes", "path_length", "scallop_max"):
         assert along_x[k][0] == pytest.approx(along_y[k][0], rel=1e-9), k
     assert along_x["n_passes"][0] == np.ceil(90 / 3.0) + 1
+
+
+@pytest.mark.parametrize("angle", [179.5, 78.5, 45.0, 11.5, 3.0])
+def test_plane_extents_are_exact_up_to_the_footprint_corners(angle):
+    """Choi's footprint is the rectangle [0, 50.8] x [0, 76.2] (straight edges), so a
+    plane's extent along the feed is piecewise linear in its offset, with kinks at the
+    corners: the extent table (a node at every corner) gives the exact crossings of the
+    rectangle everywhere, also for the planes that clip a corner (a uniform table gave the
+    plane 0.5 mm from the edge at 179.5 deg 42.2 of its 50.8 mm)."""
+    from evoplan.problems.toolpath.geometry.crossings import line_intervals
+    from evoplan.problems.toolpath.geometry.spec import parse_surface
+
+    g = PassGeometry(parse_surface("choi"), angle)
+    d = np.linspace(g.d_min + 1e-6, g.d_max - 1e-6, 4001)
+    lo, hi = g.pass_extent(d)
+    rect = np.array([[0, 0], [50.8, 0], [50.8, 76.2], [0, 76.2]])
+    line, sa, sb, _, _ = line_intervals([rect @ np.stack([g.f, g.c], 1)], d)
+    assert np.array_equal(line, np.arange(len(d)))
+    assert np.abs(lo - sa).max() < 1e-9 and np.abs(hi - sb).max() < 1e-9
