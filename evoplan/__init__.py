@@ -9,7 +9,7 @@ The Python API (loaded on first use, so that ``import evoplan`` stays light):
   algorithms themselves (ask/tell over genotypes).
 - :class:`Space`, :class:`Real`, :class:`Integer`, :class:`Categorical`: variables and the
   binary codec; :func:`make_problem`: a problem by name.
-- :class:`ToolpathProblem`, :class:`ZonedToolpathProblem`: the toolpath problems.
+- :class:`ToolpathProblem` and its typed settings :class:`ToolpathSpec`: the toolpath problem.
 """
 
 import importlib as _importlib
@@ -24,7 +24,7 @@ _LAZY = {
     "make_problem": "evoplan.problem_factory", "ConfigError": "evoplan.errors",
     "EvoplanError": "evoplan.errors",
     "ToolpathProblem": "evoplan.problems.toolpath",
-    "ZonedToolpathProblem": "evoplan.problems.toolpath.zoned",
+    "ToolpathSpec": "evoplan.problems.toolpath",
 }
 
 __all__ = ["__version__", *_LAZY]

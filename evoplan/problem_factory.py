@@ -27,7 +27,15 @@ from .space import Categorical, Integer, Real, Space
 PROBLEMS: dict[str, str] = {
     "kubota": "evoplan.problems.benchmarks:Kubota",
     "toolpath": "evoplan.problems.toolpath:ToolpathProblem",
-    "toolpath_zoning": "evoplan.problems.toolpath.zoned:ZonedToolpathProblem",  # a toolpath config
+}
+
+#: a problem name that no longer exists -> the one-line hint naming its new form
+REMOVED = {
+    "toolpath_zoning": "toolpath_zoning: removed, write name: toolpath with machine: 3axis, "
+                       "placement: drop, spacing: scallop, feed_angle: optimized, zoning: "
+                       "{method: kmeans}, ranges: {zones: [1, 8]}, fixed: {step: 1}, weights: "
+                       "{eq4_total: 1}, normalization: {eq4_total: [0, 1]} "
+                       "(runs/choi_zoning_vega.yaml)",
 }
 
 
@@ -58,6 +66,8 @@ def _factory(name: str) -> Callable[..., Problem] | None:
     ``os:system``) is refused before it is called. Names registered with :func:`register` are
     trusted factories.
     """
+    if name.lower() in REMOVED:
+        raise ValueError(REMOVED[name.lower()])
     registered = PROBLEMS.get(name.lower())
     target = registered or (name if ":" in name else None)
     if target is None:

@@ -3,7 +3,9 @@
 A line ``<!-- keys: module:Model prefix -->`` in a page becomes a table of the model's fields
 (nested groups flattened to dotted keys under ``prefix``; ``top``: the model's own keys
 only): key, type, default, meaning.
-``<!-- keys: algorithms -->`` makes one table per algorithm of ``evoplan.config.REGISTRY``.
+``<!-- keys: algorithms -->`` makes one table per algorithm of ``evoplan.config.REGISTRY``;
+``<!-- keys: surfaces -->`` one per surface type of the toolpath surface registry and
+``<!-- keys: zoning_methods -->`` one per zoning method's settings.
 The tables are generated when the site is built, so they always list the keys the code accepts.
 """
 
@@ -23,9 +25,17 @@ MARKER = re.compile(r"^<!-- keys: (\S+)(?: (\S+))? -->$", re.M)
 def _type(annotation) -> str:
     origin = typing.get_origin(annotation)
     args = typing.get_args(annotation)
+    if origin is typing.Annotated:
+        return _type(args[0])
+    if annotation is typing.Any:
+        return "any"
     if origin is typing.Literal:
         return " \\| ".join(f"`{a}`" for a in args)
     if origin in (typing.Union, getattr(__import__("types"), "UnionType", None)):
+        tags = [a.model_fields["type"].annotation for a in args
+                if isinstance(a, type) and issubclass(a, BaseModel) and "type" in a.model_fields]
+        if len(tags) > 1:  # a discriminated union: its tags
+            return "one of " + ", ".join(f"`{typing.get_args(t)[0]}`" for t in tags)
         return " or ".join(_type(a) for a in args if a is not type(None)) + (
             " or null" if type(None) in args else "")
     if origin in (list, tuple):
@@ -77,21 +87,45 @@ def table(model: type[BaseModel], prefix: str) -> str:
     return head + "\n".join(rows(model, "" if top else prefix, nest=not top)) + "\n"
 
 
+def _first_line(obj) -> str:
+    return (obj.__doc__ or "").strip().splitlines()[0] if obj.__doc__ else ""
+
+
+def _sections(key: str, entries, prefix: str) -> str:
+    """One ``#### `key: name``` section per (name, text, model) of a registry."""
+    return "\n".join(f"#### `{key}: {name}`\n\n{text}\n\n{table(model, prefix)}"
+                     for name, text, model in entries)
+
+
 def algorithms() -> str:
     registry = importlib.import_module("evoplan.config").REGISTRY
-    parts = []
-    for name, (cls, model) in registry.items():
-        doc = (cls.__doc__ or "").strip().splitlines()[0] if cls.__doc__ else ""
-        parts.append(f"#### `algorithm.name: {name}`\n\n{doc}\n\n{table(model, 'algorithm')}")
-    return "\n".join(parts)
+    return _sections("algorithm.name", ((name, _first_line(cls), model)
+                                        for name, (cls, model) in registry.items()), "algorithm")
+
+
+def surfaces() -> str:
+    registry = importlib.import_module("evoplan.problems.toolpath.geometry.registry").SURFACES
+    return _sections("surface.type", ((name, _first_line(model), model)
+                                      for name, model in registry.items()), "surface")
+
+
+def zoning_methods() -> str:
+    registry = importlib.import_module("evoplan.problems.toolpath.plan.zoning.methods").REGISTRY
+    return _sections("zoning.method", (
+        (name, method.description + (f" Its gene `{method.gene.name}` sets "
+                                     f"`{method.gene.setting}`." if method.gene else ""),
+         method.Settings) for name, method in registry.items()), "zoning.settings")
 
 
 def _replace(match: re.Match) -> str:
     target, prefix = match.group(1), match.group(2) or ""
-    if target == "algorithms":
-        return algorithms()
+    if target in GROUPS:
+        return GROUPS[target]()
     module, _, attr = target.partition(":")
     return table(getattr(importlib.import_module(module), attr), prefix)
+
+
+GROUPS = {"algorithms": algorithms, "surfaces": surfaces, "zoning_methods": zoning_methods}
 
 
 def on_page_markdown(markdown, page, config, files):

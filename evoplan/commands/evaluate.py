@@ -150,16 +150,14 @@ def _nc_program(problem, X, post_name: str) -> bytes:
     """The NC program of the plan of row X[0] (the tool numbered by its id)."""
     from ..problems.toolpath.export.kinematics import Kinematics, Rotary
     from ..problems.toolpath.export.posts import POSTS, Machine
-    from ..problems.toolpath.export.toolpath import Tool, Toolpath
+    from ..problems.toolpath.export.toolpath import Toolpath
 
     cls = POSTS[post_name]
     genes = problem.genes.decode(problem.check(X))
     path = problem.planner.cl_path(genes, problem.feed_rate)
-    t = problem.tool_db.tools[int(genes["tool"][0])]
-    tool = Tool(t.id, t.cutter, getattr(t, "spindle", None) or 6000.0)
+    tool = problem.tool_db.tools[int(genes["tool"][0])]
     tp = Toolpath.from_sections("finish", tool, path.tip, path.axis, path.section,
-                                feed=getattr(t, "feed", None) or problem.feed_rate,
-                                plunge_feed=getattr(t, "plunge_feed", None))
+                                feed=tool.feed or problem.feed_rate, plunge_feed=tool.plunge_feed)
     if not cls.five_axis and tp.multi_axis:
         raise ValueError(f"{post_name} is a 3-axis post and the plan is 5-axis (use fanuc, heidenhain or siemens)")
     kin = Kinematics("table_table", Rotary("A", "x", (-30.0, 110.0)), Rotary("C", "z", (-360.0, 360.0)))

@@ -59,20 +59,18 @@ def load(path: str, settings: list[str] = ()) -> MachineConfig:
 
 
 def plan_from_run(run: Path) -> tuple[dict, dict]:
-    """(variables, toolpath problem params) of a finished run folder (a ``toolpath_zoning`` run's
-    params translated to ``toolpath``'s), read as data (:mod:`evoplan.run_folder`); ConfigError
-    if unusable."""
+    """(variables, toolpath problem params) of a finished run folder, read as data
+    (:mod:`evoplan.run_folder`); ConfigError if unusable."""
+    from ..problem_factory import REMOVED
     from ..run_folder import read_run_folder
 
     folder = read_run_folder(run, option="--from-run", can_trust=False)
     try:
         problem = folder.problem
         params = dict(problem.get("params", {}) or {})
-        if problem.get("name") == "toolpath_zoning":
-            from ..problems.toolpath.zoned import zoning_config
-
-            params = zoning_config(**params)
-        elif problem.get("name", "toolpath") != "toolpath":
+        if problem.get("name") in REMOVED:
+            raise ValueError(REMOVED[problem.get("name")])
+        if problem.get("name", "toolpath") != "toolpath":
             raise ValueError(f"problem {problem.get('name')!r} is not a toolpath problem")
         variables = dict(folder.best["variables"])
         return variables, {k: v for k, v in params.items() if v is not None}

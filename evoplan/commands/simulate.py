@@ -6,7 +6,8 @@ Three ways to name the toolpath, over the surface of a run file's toolpath probl
     evoplan simulate --run DIR [--out DIR2]                       # the best plan of a finished run
                                         # (read as data: a run of user code needs --trust-code MODULE)
     evoplan simulate CONFIG --apt FILE [--out DIR]                # an outside APT CL file
-    evoplan simulate CONFIG --nc FILE --tool D[,r] [--out DIR]    # an outside ISO/Fanuc program
+    evoplan simulate CONFIG --nc FILE --tool [TYPE:]D[,r][,NAME=VALUE...] [--out DIR]
+                                                  # an outside ISO/Fanuc program, with its cutter
 
 Writes ``simulation.json`` (scallop max / mean / p50 / p90 / p99, gouge max and area, uncut
 fraction, grid, CL points, seconds, per-zone figures), ``deviation_map.png`` and
@@ -39,7 +40,11 @@ def add_parser(sub) -> argparse.ArgumentParser:
     src.add_argument("--apt", help="an APT CL file (GOTO/x,y,z[,i,j,k], CUTTER/, MULTAX)")
     src.add_argument("--nc", help="an ISO/Fanuc G-code program (G0-G3, G17-19, G90/91, G43.4 with A/C "
                                   "of a table-table machine); needs --tool")
-    p.add_argument("--tool", metavar="D[,r]", help="with --nc: the cutter's diameter and corner radius (mm)")
+    p.add_argument("--tool", metavar="[TYPE:]D[,r][,NAME=VALUE...]",
+                   help="with --nc: the cutter, any registered type (ball, flat, toroidal, "
+                        "tapered_ball...; without one, r says: 0 flat, D/2 ball, else toroidal), "
+                        "its diameter D and corner radius r (mm), then its own parameters by "
+                        "name: 12,6 | 12 | toroidal:16,3 | tapered_ball:8,1,taper_angle=10")
     p.add_argument("--out", help="folder for simulation.json and the figures (default: results/simulate-<time>)")
     p.add_argument("--grid", type=float, default=0.1, metavar="MM", help="cell size (default 0.1 mm)")
     p.add_argument("--rays", choices=["normal", "vertical"], default="normal",
@@ -117,22 +122,20 @@ def _read_facts(tp) -> dict:
 
 
 def _nc_path(args):
-    """(CLPath, None, label, facts) of ``--nc FILE --tool D[,r]``."""
+    """(CLPath, None, label, facts) of ``--nc FILE --tool [TYPE:]D[,r][,NAME=VALUE...]``."""
     from ..problems.toolpath.clpath import CLPath
-    from ..problems.toolpath.cutters import make_cutter
     from ..problems.toolpath.export.gcode_read import GcodeError, read_gcode
     from ..problems.toolpath.export.kinematics import Kinematics, Rotary
+    from ..problems.toolpath.spec.tools import tool_from_text
 
     try:
-        d, r = ([float(x) for x in (args.tool or "").split(",")] + [0.0])[:2]
-        if not (d > 0 and 0 <= r <= d / 2):
-            raise ValueError
-    except ValueError:
-        raise ConfigError(f"--tool {args.tool!r}: give the cutter as D[,r] in mm (d > 0, 0 <= r <= D/2)") from None
+        cutter = tool_from_text(args.tool or "", "--tool").cutter
+    except ValueError as e:
+        raise ConfigError(str(e)) from None
     kin = Kinematics("table_table", Rotary("A", "x", (-120, 120)), Rotary("C", "z", (-1e6, 1e6)))
     try:
         # arcs as chords of 1 um: the cut is the arc, not a polygon 10 um inside it
-        tp = read_gcode(args.nc, make_cutter(d, r, key="--tool"), kin, chord_tol=1e-3)
+        tp = read_gcode(args.nc, cutter, kin, chord_tol=1e-3)
         return CLPath.from_apt(tp), None, f"NC file {Path(args.nc).name}", _read_facts(tp)
     except (GcodeError, OSError, ValueError) as e:
         raise ConfigError(f"{args.nc}: {e}") from None

@@ -87,7 +87,7 @@ def build_plan(cfg: ZoneBase, base_dir: Path, progress=None):
     from ..problems.toolpath.plan.zones import ZoningSpec
     from ..problems.toolpath.plan.zoning.methods import REGISTRY
     from ..problems.toolpath.plan.zoning.stepover import ScallopTarget
-    from ..problems.toolpath.tools import parse_tools
+    from ..problems.toolpath.spec import parse_tools
 
     surface = parse_surface(cfg.surface, "surface", base_dir=base_dir)
     target = ScallopTarget.build(cfg.cutter.R, cfg.cutter.r, cfg.h_c, key="cutter")
@@ -153,7 +153,7 @@ def toolpath_apt(planner, genes, facts) -> bytes:
     """The plan as an APT CL file (the CL path the machine runs: drop-cutter tips, each
     section one feed motion), so an outside simulator can measure it."""
     from ..problems.toolpath.export.apt_write import apt_toolpath
-    from ..problems.toolpath.export.toolpath import Tool, Toolpath
+    from ..problems.toolpath.export.toolpath import Toolpath
 
     path = planner.cl_path(genes)
     tool = planner.tools.tools[0]
@@ -162,7 +162,7 @@ def toolpath_apt(planner, genes, facts) -> bytes:
              for i in starts}
     title = (f"{facts['name']}: {facts['method']} {facts['n_zones']} zones, "
              f"{facts['strategy']}, h_c {facts['h_c']} mm")
-    tp = Toolpath.from_sections("finish", Tool(1, tool.cutter),
+    tp = Toolpath.from_sections("finish", tool,
                                 path.tip, path.axis, path.section, feed=path.feed_rate,
                                 comments=[title[:66]], section_names=names)
     return apt_toolpath(tp, part="EVOPLAN ZONE").encode()

@@ -8,12 +8,12 @@ from ..units import GENE_UNITS  # noqa: F401 - one table for the figures and the
 
 def criterion_unit(name: str) -> str:
     """The unit of a toolpath criterion (``F_`` prefix and objective normalized: no unit)."""
-    from ..problems.toolpath.criteria.table import CRITERIA, canonical
+    from ..problems.toolpath.criteria.table import CRITERIA
 
     if name.startswith("F_") or name in ("weighted_sum", "objective"):
         return "normalized"
     try:
-        return CRITERIA[canonical(name)].unit
+        return CRITERIA[name].unit
     except (KeyError, ValueError):
         return ""
 

@@ -149,7 +149,7 @@ def plan_artifacts(problem, batch, genes, path) -> dict[str, bytes]:
     starts = np.flatnonzero(np.r_[True, np.diff(path.section) != 0])
     names = {int(path.section[i]): f"ZONE {path.zone[i]} PASS {path.pass_index[i]}"
              for i in starts}
-    tp = Toolpath.from_sections("finish", Tool(tool.id, tool.cutter),
+    tp = Toolpath.from_sections("finish", tool,
                                 path.tip, path.axis, path.section, feed=path.feed_rate,
                                 comments=textwrap.wrap(title, 66), section_names=names)
     return {

@@ -20,102 +20,98 @@ spacing) the chromosome is Fountas' five genes, X (n, 5). Fountas prints the ste
 
 from __future__ import annotations
 
-
 import numpy as np
 from pymoo.core.problem import Problem
 
-from .checks import number
 from .criteria.analytic import ANALYTIC, analytic_criteria
-from .criteria.kinematic_time import parse_dynamics
-from .criteria.objective import (
-    bounds_from_sample, normalize, parse_bounds, parse_objectives, parse_weights, weighted_sum,
-)
+from .criteria.objective import bounds_from_sample, normalize, parse_bounds, weighted_sum
 from .criteria.table import names as criterion_names
 from .genes import DEFAULT_RANGES, GENE_ORDER, PARAM_NAMES, GeneSpace
-from .geometry.spec import parse_surface
-from .strategy import absent_genes, build_planner
-from .tools import parse_tools
+from .geometry.registry import parse_surface
+from .plan.planner import Planner
+from .spec import ToolpathSpec, tool_database
+from .strategy import absent_genes
 
-__all__ = ["ToolpathProblem", "PARAM_NAMES", "GENE_ORDER", "DEFAULT_RANGES"]
+__all__ = ["ToolpathProblem", "ToolpathSpec", "PARAM_NAMES", "GENE_ORDER", "DEFAULT_RANGES"]
 
 
 class ToolpathProblem(Problem):
     """Finishing of a free-form surface: plans of every decision set, judged by criteria.
 
-    All arguments are plain data (a YAML ``params:`` mapping). The part and tools:
-    ``surface`` (``geometry/spec.py``; default Fountas Eq. 14), ``tools`` (list of mappings,
-    default the nine tools of ``tools.py``), ``base_dir`` for relative pole files. The
-    strategy (``strategy.py``): ``machine`` 5axis | 3axis, ``placement`` (3-axis: drop | cc),
-    ``zoning`` {method: single | kmeans | amas, mesh, merge, settings, seed}, ``spacing``
-    stepover | scallop, ``h_c`` (mm; 0.254 with scallop spacing), ``delta_l`` (mm, Eq. 4),
-    ``feed_angle`` (degrees from +X, or ``optimized``), ``tolerance`` (chord, mm),
-    ``edge_overrun`` (true: passes run on past the part's edges). The
-    decisions: ``ranges`` {gene: [lo, hi]}, ``fixed`` {gene: value} (the tool by its id).
-    The judgement: ``weights`` (criterion -> weight, default machining_error 0.5 + cc_count
-    0.5), ``objectives`` (a list of criteria: a multi-objective F), ``normalization``
-    {criterion: [lo, hi]} (given bounds; ``[0, 1]`` keeps a criterion's raw value),
-    ``normalization_samples`` / ``seed`` of the fixed design (with every gene fixed there is
-    no design: a criterion without given bounds enters Eq. 9 raw), ``feed_rate`` mm/min (1000: the
-    feed of a tool without a library ``feed``, for ``machining_time_nominal``), ``dynamics`` {accel, jerk, feed, rapid, corner_tolerance}
-    (the machine's limits for the kinematic ``machining_time``),
-    ``allowance`` finishing stock mm (0.5), ``criteria`` analytic | simulated (with
-    ``simulation`` {grid_mm, rays, allowance}: scallop, gouge and machining error measured by
-    the cut simulation; the normalization design is simulated too).
+    Built from a :class:`~.spec.ToolpathSpec` (``ToolpathProblem(spec)``), or from the plain
+    data of a YAML ``params:`` mapping given as keywords (``ToolpathProblem(surface="choi",
+    ...)`` = ``ToolpathProblem.from_params(...)``), which are validated into the spec first;
+    ``docs/toolpath-spec.md`` lists every key. The part and tools: ``surface`` (default Fountas
+    Eq. 14), ``tools`` (default the nine tools of ``tools.py``), ``base_dir`` for relative
+    files. The strategy: ``machine`` 5axis | 3axis, ``placement`` (3-axis: drop | cc),
+    ``zoning`` {method, mesh, merge, settings, seed}, ``spacing`` stepover | scallop, ``h_c``
+    (mm; 0.254 with scallop spacing), ``delta_l`` (mm, Eq. 4), ``feed_angle`` (degrees from +X,
+    or ``optimized``), ``tolerance`` (chord, mm), ``edge_overrun``, ``strategy``. The
+    decisions: ``ranges`` {gene: [lo, hi]}, ``fixed`` {gene: value} (the tool by its id). The
+    judgement: ``weights`` (criterion -> weight, default machining_error 0.5 + cc_count 0.5),
+    ``objectives`` (a multi-objective F), ``normalization`` {criterion: [lo, hi]} (``[0, 1]``
+    keeps a criterion's raw value), ``normalization_samples`` / ``seed`` of the fixed design
+    (with every gene fixed there is no design: a criterion without given bounds enters Eq. 9
+    raw), ``feed_rate`` mm/min (the feed of a tool without a library ``feed``), ``dynamics``
+    (the machine's limits), ``allowance`` mm, ``criteria`` analytic | simulated (with
+    ``simulation`` {grid_mm, rays, allowance, threads, screening}).
     Bad input raises a one-line ValueError starting with the key path.
     """
 
-    def __init__(self, surface="fountas", tools=None, machine="5axis", placement=None,
-                 zoning=None, spacing="stepover", h_c=None, delta_l=40.0, feed_angle=0.0,
-                 tolerance=0.01, feed_rate=1000.0, allowance=0.5, weights=None,
-                 objectives=None, normalization=None, normalization_samples=64, seed=0,
-                 criteria="analytic", simulation=None, ranges=None, fixed=None,
-                 base_dir=None, max_rounds=6, edge_overrun=True, strategy=None, dynamics=None):
-        surf = parse_surface(surface, "surface", base_dir)
-        self.tool_db = parse_tools(tools, "tools")
-        self.machine = machine
-        self.planner = build_planner(surf, self.tool_db, machine=machine, placement=placement,
-                                     zoning=zoning, spacing=spacing, h_c=h_c, delta_l=delta_l,
-                                     feed_angle=feed_angle, tolerance=tolerance,
-                                     max_rounds=max_rounds, edge_overrun=edge_overrun,
-                                     strategy=strategy)
-        self.delta_l = number(delta_l, "delta_l")
-        self.feed_rate = number(feed_rate, "feed_rate", positive=True)
-        self.dynamics = parse_dynamics(dynamics, "dynamics")
-        self.allowance = number(allowance, "allowance", positive=True)
+    def __init__(self, spec: ToolpathSpec | None = None, /, *, base_dir=None, **params):
+        if spec is None:
+            spec = ToolpathSpec.from_params(params, base_dir)
+        elif not isinstance(spec, ToolpathSpec) or params or base_dir is not None:
+            raise TypeError("ToolpathProblem(spec) takes a ToolpathSpec alone, or keyword params")
+        self.spec = spec
+        surf = parse_surface(spec.surface, "surface", spec.base_dir)
+        self.tool_db = tool_database(spec.tools)
+        self.machine = spec.machine
+        self.planner = Planner(
+            surf, self.tool_db, machine=spec.machine, placement=spec.placement,
+            zoning=None if spec.zoning is None else spec.zoning.zoning_spec(spec.delta_l),
+            spacing=spec.spacing, h_c=spec.scallop_height, tolerance=spec.tolerance,
+            feed_angle=None if spec.feed_angle == "optimized" else spec.feed_angle,
+            max_rounds=spec.max_rounds, edge_overrun=spec.edge_overrun, strategy=spec.strategy)
+        self.delta_l = spec.delta_l
+        self.feed_rate = spec.feed_rate
+        self.dynamics = spec.dynamics
+        self.allowance = spec.allowance
         self.tolerance = self.planner.tolerance
         layouts = self.planner.layouts
         self.genes = GeneSpace(
-            self.planner.gene_names, self.tool_db, ranges, fixed,
-            absent=absent_genes(machine, spacing, layouts.method.name,
+            self.planner.gene_names, self.tool_db, spec.ranges, spec.fixed,
+            absent=absent_genes(spec.machine, spec.spacing, layouts.method.name,
                                 self.planner.strategy.name),
             zone_gene=layouts.method.gene, zone_range=self._zone_range,
             zone_value=self._zone_value,
             choices={"strategy": [st.name for st in self.planner.choices]}
             if self.planner.choices else None)
-        self.weights = parse_weights(weights, "weights")
-        self.objectives = None if objectives is None else parse_objectives(objectives)
-        if criteria not in ("analytic", "simulated"):
-            raise ValueError(f"criteria: expected analytic or simulated, got {criteria!r}")
+        self.weights = spec.weights_or_default
+        self.objectives = None if spec.objectives is None else list(spec.objectives)
         self.simulated = None
-        if criteria == "simulated":
+        if spec.criteria == "simulated":
             from .criteria.simulated import SimulatedCriteria
 
-            self.simulated = SimulatedCriteria(surf, simulation)
-        elif simulation is not None:
-            raise ValueError("simulation: only used with criteria: simulated")
+            self.simulated = SimulatedCriteria(surf, spec.simulation)
         self.variables = self.genes.variables
-        names = self.objectives if self.objectives is not None else list(self.weights)
-        given = parse_bounds(normalization, names)
+        names = spec.judged
+        given = parse_bounds(spec.normalization, names)
         missing = [k for k in names if k not in given]
         if missing and self.genes.n_var == 0:  # one plan, no design: its raw criteria
             given.update({k: (0.0, 1.0) for k in missing})
         elif missing:
-            design = self.genes.design(int(normalization_samples), int(seed))
+            design = self.genes.design(int(spec.normalization_samples), int(spec.seed))
             given.update(bounds_from_sample(self._raw_criteria(design), missing))
         self.norm_bounds = {k: given[k] for k in names}
         super().__init__(n_var=self.genes.n_var,
                          n_obj=1 if self.objectives is None else len(self.objectives),
                          xl=self.genes.xl, xu=self.genes.xu, vtype=float, vars=self.variables)
+
+    @classmethod
+    def from_params(cls, base_dir=None, **params) -> "ToolpathProblem":
+        """The problem of plain ``params`` (a run file's mapping), validated into the spec."""
+        return cls(ToolpathSpec.from_params(params, base_dir))
 
     # -- configuration ------------------------------------------------------------------
     def _zone_range(self, value):

@@ -1,9 +1,11 @@
-"""The tool database: an ordered list of cutters with unique ids.
+"""The one tool definition: a registered cutter plus its id and cutting data; the database.
 
-A cutter is its diameter D and corner radius r (r = 0 flat-end, r = D/2 ball-end,
-0 < r < D/2 toroidal); its shape is the registered :class:`~.cutters.Cutter` that
-:func:`~.cutters.make_cutter` infers from (D, r). The optimizer's tool gene is an INDEX into
-the database (0 .. n-1), reported as the tool's id.
+A :class:`Tool` is a :class:`~.cutters.Cutter` (its shape and size) with the id the run file
+and the NC program know it by (the APT ``LOADTL`` / G-code ``T`` number), an optional name and
+its cutting data (feed, plunge feed, spindle speed). The toolpath problem, the ``zone`` and
+``machine`` commands and every export (APT, the posts) hold this one class; a tool's settings
+in a run file are validated by ``spec/tools.py``. The optimizer's tool gene is an INDEX into
+the :class:`ToolDatabase` (0 .. n-1), reported as the tool's id.
 
 Default database: Fountas et al. (Experimental validation) used nine tools, "three sets of
 flat-end, ball-end and toroidal tools; having 8 mm, 12 mm and 16 mm each", and its Table 2
@@ -21,42 +23,64 @@ only the 16 mm tool's Rc 3).
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
-from .checks import number
-from .cutters import Cutter, make_cutter
+from .cutters import Cutter
 
-__all__ = ["Tool", "ToolDatabase", "DEFAULT_TOOLS", "parse_tools"]
+__all__ = ["Tool", "ToolDatabase", "DEFAULT_TOOLS", "CHOI_TOOLS", "DEFAULT_SPINDLE_RPM"]
+
+#: the spindle speed an NC program gets for a tool without one (rpm)
+DEFAULT_SPINDLE_RPM = 6000.0
 
 
 @dataclass(frozen=True)
 class Tool:
-    """One database entry: id, diameter D (mm), corner radius r (mm), type (the cutter's
-    kind), name, and its :class:`~.cutters.Cutter`."""
+    """One tool: ``id`` (the NC tool number), its :class:`~.cutters.Cutter`, ``spindle``
+    (rpm; None: the NC program's default, :data:`DEFAULT_SPINDLE_RPM`), ``feed`` and
+    ``plunge_feed`` (mm/min; None: the machine's or the operation's), ``name``."""
 
     id: int
-    diameter: float
-    corner_radius: float
-    type: str
+    cutter: Cutter
+    spindle: float | None = DEFAULT_SPINDLE_RPM
+    feed: float | None = None
+    plunge_feed: float | None = None
     name: str = ""
-    cutter: Cutter | None = field(default=None, compare=False, repr=False)
-    feed: float | None = None          # mm/min (the kinematic machining time and the NC program)
-    plunge_feed: float | None = None   # mm/min
-    spindle: float | None = None       # rpm
 
     def __post_init__(self):
-        if self.cutter is None:
-            object.__setattr__(self, "cutter", make_cutter(self.diameter, self.corner_radius,
-                                                           self.type))
+        if not isinstance(self.cutter, Cutter):
+            raise ValueError(f"tool {self.id}: the cutter must be a Cutter, got {self.cutter!r}")
+
+    @property
+    def number(self) -> int:
+        """The NC tool number (the id)."""
+        return self.id
+
+    @property
+    def spindle_rpm(self) -> float | None:
+        return self.spindle
+
+    @property
+    def diameter(self) -> float:
+        return self.cutter.diameter
 
     @property
     def radius(self) -> float:
-        return self.diameter / 2.0
+        return self.cutter.radius
+
+    @property
+    def corner_radius(self) -> float:
+        return self.cutter.corner_radius
+
+    @property
+    def type(self) -> str:
+        """The cutter's registered kind (flat, ball, toroidal, tapered_ball...)."""
+        return self.cutter.kind
 
     def label(self) -> str:
-        return self.name or self.cutter.label()
+        """The name, else the cutter's short label (``toroidal D16 r3``, ``ball D12``)."""
+        return self.name or self.cutter.short_label()
 
 
 DEFAULT_TOOLS = [
@@ -69,6 +93,14 @@ DEFAULT_TOOLS = [
     {"id": 7, "type": "ball", "diameter": 8, "corner_radius": 4},
     {"id": 8, "type": "ball", "diameter": 12, "corner_radius": 6},
     {"id": 9, "type": "ball", "diameter": 16, "corner_radius": 8},
+]
+
+#: Choi's four cutters (D 6.35 mm: ball, toroidal r 1 and 1.27, flat), the zoning runs' tools
+CHOI_TOOLS = [
+    {"id": 1, "type": "ball", "diameter": 6.35},
+    {"id": 2, "type": "toroidal", "diameter": 6.35, "corner_radius": 1.0},
+    {"id": 3, "type": "toroidal", "diameter": 6.35, "corner_radius": 1.27},
+    {"id": 4, "type": "flat", "diameter": 6.35},
 ]
 
 
@@ -97,62 +129,3 @@ class ToolDatabase:
             raise ValueError(f"params.tool: no tool with id {tool_id} "
                              f"(ids: {', '.join(map(str, self.ids))})")
         return int(hits[0])
-
-
-def parse_tools(spec=None, key: str = "tools") -> ToolDatabase:
-    """Build a database from plain data (a list of mappings); None gives the default nine.
-
-    Each entry: ``diameter`` (> 0), ``corner_radius`` (0 <= r <= D/2), optional ``id``
-    (default: position + 1), ``type`` (flat/ball/toroidal/tapered_ball; checked against r
-    when given), ``taper_angle`` (degrees: the half-angle of a tapered ball's cone),
-    ``name``, and the cutting data ``feed`` (mm/min), ``plunge_feed`` (mm/min), ``spindle``
-(rpm): an entry with any of them needs its ``feed``. The shape comes from :func:`~.cutters.make_cutter` (a registered name or
-    alias is accepted as ``type``). Errors are one-line ValueErrors starting with the key
-    path, e.g.
-    ``tools[2].corner_radius: 9 exceeds the tool radius 8``.
-    """
-    if spec is None:
-        spec = DEFAULT_TOOLS
-    if not isinstance(spec, (list, tuple)) or len(spec) == 0:
-        raise ValueError(f"{key}: expected a non-empty list of tools, got {spec!r}")
-    tools = []
-    for i, item in enumerate(spec):
-        k = f"{key}[{i}]"
-        if not isinstance(item, dict):
-            raise ValueError(f"{k}: expected a mapping, got {item!r}")
-        unknown = set(item) - {"id", "type", "diameter", "corner_radius", "taper_angle", "name",
-                               "feed", "plunge_feed", "spindle"}
-        if unknown:
-            raise ValueError(f"{k}: unknown key(s) {', '.join(sorted(unknown))}")
-        if "diameter" not in item:
-            raise ValueError(f"{k}.diameter: missing")
-        d = number(item["diameter"], f"{k}.diameter")
-        if d <= 0:
-            raise ValueError(f"{k}.diameter: must be > 0, got {d:g}")
-        r = None
-        if "corner_radius" in item:
-            r = number(item["corner_radius"], f"{k}.corner_radius")
-            if r < 0:
-                raise ValueError(f"{k}.corner_radius: must be >= 0, got {r:g}")
-            if r > d / 2 + 1e-12:
-                raise ValueError(f"{k}.corner_radius: {r:g} exceeds the tool radius {d / 2:g}")
-        # the shape inferred, a given type checked (a tapered ball: its taper_angle, degrees)
-        cutter = make_cutter(d, r, item.get("type"), key=k, taper_angle=item.get("taper_angle"))
-        tid = item.get("id", i + 1)
-        if isinstance(tid, bool) or not isinstance(tid, (int, np.integer)):
-            raise ValueError(f"{k}.id: expected an integer, got {tid!r}")
-        rates = {}
-        for rk in ("feed", "plunge_feed", "spindle"):
-            if rk in item:
-                rates[rk] = number(item[rk], f"{k}.{rk}")
-                if rates[rk] <= 0:
-                    raise ValueError(f"{k}.{rk}: must be > 0, got {rates[rk]:g}")
-        if rates and "feed" not in rates:
-            raise ValueError(f"{k}.feed: missing (an entry with {', '.join(sorted(rates))} needs its feed, mm/min)")
-        tools.append(Tool(int(tid), d, cutter.corner_radius, cutter.kind,
-                          str(item.get("name", "")), cutter, **rates))
-    ids = [t.id for t in tools]
-    dup = sorted({x for x in ids if ids.count(x) > 1})
-    if dup:
-        raise ValueError(f"{key}: duplicate tool id(s) {', '.join(map(str, dup))}")
-    return ToolDatabase(tools)

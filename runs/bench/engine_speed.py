@@ -33,8 +33,8 @@ from evoplan.problems.toolpath.criteria.analytic import analytic_criteria  # noq
 from evoplan.problems.toolpath.geometry.spec import parse_surface  # noqa: E402
 from evoplan.problems.toolpath.plan.planner import Planner  # noqa: E402
 from evoplan.problems.toolpath.plan.zones import ZoningSpec  # noqa: E402
-from evoplan.problems.toolpath.tools import parse_tools  # noqa: E402
-from evoplan.problems.toolpath.zoned import CHOI_TOOLS  # noqa: E402
+from evoplan.problems.toolpath.spec import parse_tools  # noqa: E402
+from evoplan.problems.toolpath.tools import CHOI_TOOLS  # noqa: E402
 
 def evaluate(planner, surface, tools, genes, machine):
     batch = planner.plan(genes, place=False)

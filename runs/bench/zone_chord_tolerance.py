@@ -17,11 +17,17 @@ from __future__ import annotations
 import time
 
 from evoplan.problems.toolpath.simulation import design_grid, simulate
-from evoplan.problems.toolpath.zoned import ZonedToolpathProblem
+from evoplan.problems.toolpath import CHOI_TOOLS, ToolpathProblem
+
+#: Choi's zoned 3-axis configuration (runs/choi_zoning_vega.yaml's problem)
+CHOI_ZONED = dict(surface="choi", tools=CHOI_TOOLS, machine="3axis", placement="drop",
+                  spacing="scallop", h_c=0.254, feed_angle="optimized",
+                  zoning={"method": "kmeans", "merge": False}, fixed={"step": 1.0},
+                  weights={"eq4_total": 1.0}, normalization={"eq4_total": [0.0, 1.0]})
 
 
 def main() -> None:
-    problem = ZonedToolpathProblem(method="kmeans")
+    problem = ToolpathProblem(**CHOI_ZONED)
     grid = design_grid(problem.surface, 0.2)
     print("tool zones tolerance  cl_points added deviation_mm path_s gouge_max_mm")
     for tool in (1, 2):

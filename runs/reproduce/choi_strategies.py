@@ -28,8 +28,8 @@ from evoplan.problems.toolpath.plan.strategies import STRATEGIES
 from evoplan.problems.toolpath.plan.zones import ZoningSpec
 from evoplan.problems.toolpath.simulation import design_grid, simulate
 from evoplan.problems.toolpath.simulation.metrics import VERDICT_GRIDS_MM, verdicts
-from evoplan.problems.toolpath.tools import parse_tools
-from evoplan.problems.toolpath.zoned import CHOI_TOOLS
+from evoplan.problems.toolpath.spec import parse_tools
+from evoplan.problems.toolpath.tools import CHOI_TOOLS
 from outputs import add_report_options, resolve_report_paths, write_report  # runs/reproduce/outputs.py
 
 H_C, DELTA_L, STEP, TOL, ALLOWANCE = 0.254, 40.0, 1.0, 0.01, 0.5

@@ -29,11 +29,11 @@ from evoplan.problems.toolpath.plan.planner import Planner
 from evoplan.problems.toolpath.plan.zones import ZoningSpec
 from evoplan.problems.toolpath.plan.zoning.merge import MergeSettings
 from evoplan.problems.toolpath.plan.zoning.passes import zone_passes
-from evoplan.problems.toolpath.zoned import CHOI_TOOLS
+from evoplan.problems.toolpath.tools import CHOI_TOOLS
 from evoplan.problems.toolpath.plan.zoning.stepover import ScallopTarget, plane_spacing
 from evoplan.problems.toolpath.simulation import design_grid, residual_metrics, simulate
 from evoplan.problems.toolpath.simulation.figures import deviation_map_png
-from evoplan.problems.toolpath.tools import parse_tools
+from evoplan.problems.toolpath.spec import parse_tools
 from scipy import ndimage
 from outputs import add_report_options, resolve_report_paths  # runs/reproduce/outputs.py
 

@@ -24,7 +24,7 @@ from scipy.stats import spearmanr
 
 from evoplan.problems.toolpath.problem import ToolpathProblem
 from evoplan.problems.toolpath.simulation import design_grid, simulate
-from evoplan.problems.toolpath.zoned import CHOI_TOOLS
+from evoplan.problems.toolpath.tools import CHOI_TOOLS
 from outputs import add_report_options, resolve_report_paths  # runs/reproduce/outputs.py
 
 HERE = Path(__file__).resolve().parent

@@ -106,7 +106,9 @@ def test_toolpath_vars_run_under_pymoo_mixed_variable_ga():
 
 
 def test_zoned_problem_declares_vars():
-    problem = evoplan.ZonedToolpathProblem(mesh=(12, 12), zones=(1, 2))
+    from tests.choi_zoning import choi_zoning
+
+    problem = evoplan.ToolpathProblem(**choi_zoning(mesh=(12, 12), gene_range=(1, 2)))
     assert list(problem.vars) == ["tool", "zones"]
     row = problem.criteria([{"tool": 4, "zones": 1}])
-    assert row["total_length"][0] == problem.criteria([[3, 1]])["total_length"][0]
+    assert row["eq4_total"][0] == problem.criteria([[3, 1]])["eq4_total"][0]

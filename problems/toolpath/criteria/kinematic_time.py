@@ -35,26 +35,36 @@ L / F + T(F); every full stop on the way (a reversal) adds T(F); A, J -> infinit
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
 import numpy as np
 from numba import njit
+from pydantic import BaseModel, ConfigDict, Field, field_validator
 
-__all__ = ["Dynamics", "parse_dynamics", "chain_time", "plan_times", "kinematic_time", "toolpath_time",
-           "moves_time"]
+__all__ = ["Dynamics", "chain_time", "plan_times", "kinematic_time", "toolpath_time", "moves_time"]
 
 
-@dataclass(frozen=True)
-class Dynamics:
+class Dynamics(BaseModel):
     """The machine's limits: ``accel`` m/s^2, ``jerk`` m/s^3, ``feed`` mm/min (used when a
-    tool has none), ``rapid`` mm/min, ``corner_tolerance`` mm (junction deviation).
-    Defaults: Herraz et al.'s jerk 40 m/s^3, acceleration 6 m/s^2, feed 5 m/min."""
+    tool has none), ``rapid`` mm/min, ``corner_tolerance`` mm (junction deviation), each > 0
+    (``rapid`` may be infinite). Defaults: Herraz et al.'s jerk 40 m/s^3, acceleration
+    6 m/s^2, feed 5 m/min. A run file's ``dynamics`` mapping is this model."""
 
-    accel: float = 6.0
-    jerk: float = 40.0
-    feed: float = 5000.0
-    rapid: float = 10000.0
-    corner_tolerance: float = 0.01
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+    accel: float = Field(6.0, description="m/s^2")
+    jerk: float = Field(40.0, description="m/s^3")
+    feed: float = Field(5000.0, description="mm/min, for a tool without its own feed")
+    rapid: float = Field(10000.0, description="mm/min")
+    corner_tolerance: float = Field(0.01, description="mm (junction deviation)")
+
+    @field_validator("*", mode="before")
+    @classmethod
+    def _positive(cls, v):
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not (math.isfinite(v) or v == math.inf):
+            raise ValueError(f"expected a number, got {v!r}")
+        if not v > 0:
+            raise ValueError(f"must be > 0, got {v!r}")
+        return float(v)
 
     @property
     def a_mm(self) -> float:
@@ -63,26 +73,6 @@ class Dynamics:
     @property
     def j_mm(self) -> float:
         return self.jerk * 1000.0
-
-
-def parse_dynamics(spec=None, key: str = "dynamics") -> Dynamics:
-    """A :class:`Dynamics` from plain data; one-line ValueError ``dynamics.accel: ...``."""
-    if spec is None:
-        return Dynamics()
-    if not isinstance(spec, dict):
-        raise ValueError(f"{key}: expected a mapping, got {spec!r}")
-    known = Dynamics.__dataclass_fields__
-    unknown = sorted(set(spec) - set(known))
-    if unknown:
-        raise ValueError(f"{key}.{unknown[0]}: unknown (known: {', '.join(known)})")
-    out = {}
-    for k, v in spec.items():
-        if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) and v != math.inf:
-            raise ValueError(f"{key}.{k}: expected a number, got {v!r}")
-        if not v > 0:
-            raise ValueError(f"{key}.{k}: must be > 0, got {v!r}")
-        out[k] = float(v)
-    return Dynamics(**out)
 
 
 @njit(cache=True)

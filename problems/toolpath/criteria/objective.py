@@ -18,7 +18,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..checks import interval, number
-from .table import canonical, check_name
+from .table import RENAMED, check_name
 
 __all__ = ["DEFAULT_WEIGHTS", "parse_weights", "parse_objectives", "parse_bounds",
            "bounds_from_sample", "normalize", "weighted_sum"]
@@ -27,8 +27,7 @@ DEFAULT_WEIGHTS = {"machining_error": 0.5, "cc_count": 0.5}
 
 
 def _criterion(name, key: str, seen) -> str:
-    """A weightable criterion's name (alias resolved) for the entry ``key``; refuses one
-    given twice (an alias and its name)."""
+    """A weightable criterion's name for the entry ``key``; refuses one given twice."""
     crit = check_name(name, key, weightable=True)
     if crit in seen:
         raise ValueError(f"{key}: {crit} is given twice")
@@ -36,8 +35,8 @@ def _criterion(name, key: str, seen) -> str:
 
 
 def parse_weights(weights=None, key: str = "weights") -> dict[str, float]:
-    """Validate weights {criterion: w}: weightable names of the criteria table (old names
-    such as ``total_length`` accepted), each in [0, 1], sum 1 within 1e-9."""
+    """Validate weights {criterion: w}: weightable names of the criteria table, each in
+    [0, 1], sum 1 within 1e-9 (the toolpath specification's check of ``weights``)."""
     if weights is None:
         return dict(DEFAULT_WEIGHTS)
     if not isinstance(weights, dict) or not weights:
@@ -56,7 +55,7 @@ def parse_weights(weights=None, key: str = "weights") -> dict[str, float]:
 
 
 def parse_objectives(objectives, key: str = "objectives") -> list[str]:
-    """A list of weightable criteria (aliases resolved, no repeats) for a multi-objective F."""
+    """A list of weightable criteria (no repeats) for a multi-objective F."""
     if not isinstance(objectives, (list, tuple)) or not objectives:
         raise ValueError(f"{key}: expected a list of criteria, got {objectives!r}")
     out: list[str] = []
@@ -67,14 +66,16 @@ def parse_objectives(objectives, key: str = "objectives") -> list[str]:
 
 def parse_bounds(bounds, names, key: str = "normalization") -> dict[str, tuple[float, float]]:
     """Explicit bounds {criterion: [lo, hi]} with lo < hi for criteria among ``names`` (the
-    weighted ones; aliases resolved); names not given are left out."""
+    weighted ones); names not given are left out."""
     if bounds is None:
         return {}
     if not isinstance(bounds, dict):
         raise ValueError(f"{key}: expected a mapping criterion -> [lo, hi], got {bounds!r}")
     out = {}
     for name, b in bounds.items():
-        crit = canonical(name) if isinstance(name, str) else name
+        crit = name
+        if isinstance(name, str) and name in RENAMED:
+            raise ValueError(f"{key}.{name}: renamed {RENAMED[name]}")
         if crit not in names:
             raise ValueError(f"{key}.{name}: not a weighted criterion ({', '.join(names)})")
         out[crit] = interval(b, f"{key}.{name}")

@@ -9,16 +9,15 @@ from the others) and whether the cut simulation measures it under the same name
 
 Everything that lists criteria reads this table: the weights and objectives validation,
 the normalization bounds, the simulated names and the documentation's table (built by the
-site hook ``docs/_hooks/criteria_table.py``). ``ALIASES`` keeps old names valid: the
-zoning problem's ``total_length`` is Djebali's Eq. 4 total, ``eq4_total``.
+site hook ``docs/_hooks/criteria_table.py``). A removed name is not accepted: ``RENAMED``
+holds the hint its one-line error gives (``weights.total_length: renamed eq4_total``).
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 
-__all__ = ["Criterion", "CRITERIA", "ALIASES", "names", "canonical", "check_name",
-           "markdown_table"]
+__all__ = ["Criterion", "CRITERIA", "RENAMED", "names", "check_name", "markdown_table"]
 
 
 @dataclass(frozen=True)
@@ -73,7 +72,7 @@ _TABLE = (
               "path length / feed (the tool library's feed, else feed_rate; no rapids, no "
               "acceleration limits)"),
     Criterion("eq4_total", "mm", True,
-              "Djebali Eq. 4: cutting length + (zones - 1) x delta_l (old name total_length)"),
+              "Djebali Eq. 4: cutting length + (zones - 1) x delta_l"),
     Criterion("length_on_part_mm", "mm", True,
               "feed moves between CC points on the part, as the papers count (no runs "
               "past the edge)"),
@@ -87,8 +86,8 @@ _TABLE = (
 #: name -> :class:`Criterion`, in table order
 CRITERIA: dict[str, Criterion] = {c.name: c for c in _TABLE}
 
-#: old name -> criterion name (accepted wherever a name is read)
-ALIASES = {"total_length": "eq4_total"}
+#: a removed name -> its criterion's name (refused, with this hint)
+RENAMED = {"total_length": "eq4_total"}
 
 
 def names(*, weightable: bool | None = None, family: str | None = None,
@@ -100,15 +99,12 @@ def names(*, weightable: bool | None = None, family: str | None = None,
                  and (simulated is None or c.simulated == simulated))
 
 
-def canonical(name: str) -> str:
-    """The criterion's name (an alias resolved); unknown names are returned unchanged."""
-    return ALIASES.get(name, name)
-
-
 def check_name(name, key: str, *, weightable: bool = False) -> str:
-    """``name`` (or an alias) as a criterion name; ``ValueError`` starting with ``key`` for
-    an unknown name, or, with ``weightable``, for one that cannot be weighted."""
-    crit = CRITERIA.get(canonical(name)) if isinstance(name, str) else None
+    """``name`` as a criterion name; ``ValueError`` starting with ``key`` for an unknown or
+    renamed name, or, with ``weightable``, for one that cannot be weighted."""
+    if isinstance(name, str) and name in RENAMED:
+        raise ValueError(f"{key}: renamed {RENAMED[name]}")
+    crit = CRITERIA.get(name) if isinstance(name, str) else None
     if crit is None:
         known = names(weightable=True) if weightable else tuple(CRITERIA)
         raise ValueError(f"{key}: unknown criterion {name!r} (known: {', '.join(known)})")
@@ -123,8 +119,6 @@ def markdown_table() -> str:
     rows = ["| criterion | unit | weightable | cut simulation | meaning |",
             "|---|---|---|---|---|"]
     for c in _TABLE:
-        alias = [a for a, n in ALIASES.items() if n == c.name]
-        name = f"`{c.name}`" + "".join(f" (alias `{a}`)" for a in alias)
-        rows.append(f"| {name} | {c.unit} | {'yes' if c.weightable else 'no'} | "
+        rows.append(f"| `{c.name}` | {c.unit} | {'yes' if c.weightable else 'no'} | "
                     f"{'yes' if c.simulated else '-'} | {c.description} |")
     return "\n".join(rows) + "\n"

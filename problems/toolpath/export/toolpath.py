@@ -13,28 +13,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..cutters import Cutter
+from ..tools import Tool
 
-
-@dataclass
-class Tool:
-    """The cutter as the NC program needs it: number, the :class:`~..cutters.Cutter`, spindle
-    speed (rpm)."""
-
-    number: int
-    cutter: Cutter
-    spindle_rpm: float | None = 6000.0
-
-    def __post_init__(self):
-        if not isinstance(self.cutter, Cutter):
-            raise ValueError(f"tool {self.number}: the cutter must be a Cutter, got {self.cutter!r}")
-
-    @property
-    def diameter(self) -> float:
-        return self.cutter.diameter
-
-    def label(self) -> str:
-        return self.cutter.short_label()
+__all__ = ["Tool", "Toolpath"]
 
 
 @dataclass

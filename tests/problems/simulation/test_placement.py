@@ -8,15 +8,18 @@ import dataclasses
 import numpy as np
 
 from evoplan.problems.toolpath.simulation import design_grid, simulate
-from evoplan.problems.toolpath.zoned import ZonedToolpathProblem
+from evoplan.problems.toolpath import ToolpathProblem
+from tests.choi_zoning import choi_zoning
 
 
 def test_cc_placement_gouges_and_drop_cutter_does_not():
-    pr = ZonedToolpathProblem(method="kmeans")
-    grid = design_grid(pr.surface, 0.4)
+    params = choi_zoning(fixed={"step": 3.0})
+    grid = None
     gouge = {}
     for placement in ("cc", "drop"):
-        path, _ = pr.cl_path(dict(tool=2, zones=1), step=3.0, placement=placement)
+        pr = ToolpathProblem(**{**params, "placement": placement})
+        path, _ = pr.cl_path(dict(tool=2, zones=1))
+        grid = grid or design_grid(pr.surface, 0.4)
         alone = dataclasses.replace(path, section=np.arange(len(path)))
         gouge[placement] = simulate(alone, grid).metrics["gouge_max_mm"]
     assert gouge["cc"] > 0.01

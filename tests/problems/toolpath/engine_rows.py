@@ -6,7 +6,8 @@ import numpy as np
 
 from evoplan.problems.toolpath.criteria.analytic import analytic_criteria, point_heights
 from evoplan.problems.toolpath.plan.planner import Planner
-from evoplan.problems.toolpath.tools import ToolDatabase, parse_tools
+from evoplan.problems.toolpath.spec import parse_tools
+from evoplan.problems.toolpath.tools import ToolDatabase
 
 OPTIONS = dict(allowance=0.5, feed_rate=1000.0, delta_l=40.0)
 

@@ -14,7 +14,7 @@ from evoplan.problems.toolpath.criteria.table import CRITERIA
 from evoplan.problems.toolpath.criteria.scallop_3axis import cusp_heights
 from evoplan.problems.toolpath.geometry.surface import fountas_surface
 from evoplan.problems.toolpath.plan.batch import PlanBatch
-from evoplan.problems.toolpath.tools import parse_tools
+from evoplan.problems.toolpath.spec import parse_tools
 
 TABLE2 = np.array([[5, 30.791, 3.379, 0.040, 8.451],   # Fountas Table 2, GA (tool 6: index 5)
                    [5, 41.729, 2.957, 0.027, 6.338]])  # VEGA

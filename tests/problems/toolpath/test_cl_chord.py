@@ -10,7 +10,7 @@ from toolpath_analytic import GraphSurface
 from evoplan.problems.toolpath import ToolpathProblem
 from evoplan.problems.toolpath.plan.planner import Planner
 from evoplan.problems.toolpath.simulation import design_grid, simulate
-from evoplan.problems.toolpath.tools import parse_tools
+from evoplan.problems.toolpath.spec import parse_tools
 
 TOL = 0.01
 

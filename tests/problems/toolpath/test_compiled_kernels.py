@@ -7,7 +7,7 @@ import pytest
 
 from evoplan.problems.toolpath.cutters.base import Cutter
 from evoplan.problems.toolpath.geometry.rows import interp_rows, interp_rows_numpy
-from evoplan.problems.toolpath.tools import parse_tools
+from evoplan.problems.toolpath.spec import parse_tools
 
 
 def same_bits(a, b) -> bool:

@@ -31,7 +31,8 @@ def test_a_good_yaml_net_still_loads(tmp_path):
 
 
 def test_a_zoning_mesh_too_large_for_memory_is_refused_before_allocation():
-    from evoplan.problems.toolpath.zoned import ZonedToolpathProblem
+    from evoplan.problems.toolpath import ToolpathSpec
+    from tests.choi_zoning import choi_zoning
 
-    with pytest.raises(ValueError, match=r"^mesh: a 200000 x 200000 mesh needs about [0-9.]+ GiB"):
-        ZonedToolpathProblem(mesh=(200000, 200000))
+    with pytest.raises(ValueError, match=r"^zoning.mesh: a 200000 x 200000 mesh needs about [0-9.]+ GiB"):
+        ToolpathSpec.from_params(choi_zoning(mesh=(200000, 200000)))

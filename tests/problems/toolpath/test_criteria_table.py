@@ -17,7 +17,7 @@ from evoplan.problems.toolpath.criteria.objective import (
 from evoplan.problems.toolpath.criteria.simulated import SimulatedCriteria
 from evoplan.problems.toolpath.criteria.table import CRITERIA, names
 from evoplan.problems.toolpath.plan.planner import Planner
-from evoplan.problems.toolpath.tools import parse_tools
+from evoplan.problems.toolpath.spec import parse_tools
 
 ROOT = Path(__file__).resolve().parents[3]
 
@@ -53,27 +53,29 @@ def test_unknown_weights_and_objectives_are_refused_in_one_line():
         "normalization.r_eff: not a weighted criterion")
 
 
-def test_the_old_total_length_is_the_eq4_total():
-    assert parse_weights({"total_length": 0.25, "cc_count": 0.75}) == {
-        "eq4_total": 0.25, "cc_count": 0.75}
-    assert parse_objectives(["total_length", "machining_time"]) == ["eq4_total", "machining_time"]
-    assert parse_bounds({"total_length": [100, 200]}, ["eq4_total"]) == {"eq4_total": (100, 200)}
-    assert _error(parse_weights, {"total_length": 0.5, "eq4_total": 0.5}) == (
-        "weights.eq4_total: eq4_total is given twice")
+def test_the_removed_total_length_names_eq4_total():
+    """``total_length`` (the removed zoning problem's name of Djebali's Eq. 4 total) is
+    refused wherever a criterion is named, with a hint naming ``eq4_total``."""
+    assert _error(parse_weights, {"total_length": 0.25, "cc_count": 0.75}) == (
+        "weights.total_length: renamed eq4_total")
+    assert _error(parse_objectives, ["machining_time", "total_length"]) == (
+        "objectives[1]: renamed eq4_total")
+    assert _error(parse_bounds, {"total_length": [100, 200]}, ["eq4_total"]) == (
+        "normalization.total_length: renamed eq4_total")
     crit = {"eq4_total": np.array([100.0, 150.0, 200.0])}
-    w = parse_weights({"total_length": 1.0})
+    w = parse_weights({"eq4_total": 1.0})
     np.testing.assert_allclose(weighted_sum(crit, w, {"eq4_total": (100.0, 200.0)}), [0, 0.5, 1])
 
 
 def test_a_run_with_an_objective_given_twice_is_refused_in_one_line(tmp_path, capsys):
-    """``total_length`` is the old name of ``eq4_total``: two identical objectives are one
-    ``evoplan: error`` line naming the entry, exit 2, no run folder."""
+    """Two identical objectives are one ``evoplan: error`` line naming the entry, exit 2, no
+    run folder."""
     path = tmp_path / "dup.yaml"
     path.write_text(yaml.safe_dump({
         "seed": 1, "algorithm": {"name": "nsga2", "pop_size": 8},
         "termination": {"generations": 2},
         "problem": {"name": "toolpath", "params": {
-            "objectives": ["total_length", "eq4_total"],
+            "objectives": ["eq4_total", "eq4_total"],
             "normalization": {"eq4_total": [0, 1]}}}}))
     out = tmp_path / "out"
     assert main(["run", str(path), "--out", str(out), "--quiet"]) == 2
@@ -110,4 +112,4 @@ def test_the_documentation_table_lists_every_criterion():
     for row in rows:
         name = row.split("`")[1]
         assert row.split(" | ")[2] == ("yes" if CRITERIA[name].weightable else "no"), row
-    assert "| `eq4_total` (alias `total_length`) | mm | yes |" in rendered
+    assert "| `eq4_total` | mm | yes |" in rendered and "alias" not in rendered

@@ -8,7 +8,7 @@ from evoplan.problems.toolpath.cutters import make_cutter
 from evoplan.problems.toolpath.cutters import BallEndCutter, FlatEndCutter, ToroidalCutter
 from evoplan.problems.toolpath.export.apt_write import header
 from evoplan.problems.toolpath.export.toolpath import Tool
-from evoplan.problems.toolpath.tools import parse_tools
+from evoplan.problems.toolpath.spec import parse_tools
 
 
 def test_the_database_hands_out_the_inferred_cutters():

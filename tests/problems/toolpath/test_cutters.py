@@ -15,7 +15,7 @@ from evoplan.problems.toolpath.cutters.surface_grid import surface_grid
 from evoplan.problems.toolpath.cutters.effective_radius import (
     effective_radius_3axis, effective_radius_lead_tilt)
 from evoplan.problems.toolpath.geometry.spec import parse_surface
-from evoplan.problems.toolpath.tools import parse_tools
+from evoplan.problems.toolpath.spec import parse_tools
 
 SHAPES = [(8.0, 0.0), (8.0, 1.0), (8.0, 4.0)]
 

@@ -10,7 +10,8 @@ import pytest
 import yaml
 
 from evoplan.problems.toolpath import ToolpathProblem
-from evoplan.problems.toolpath.zoned import CHOI_TOOLS, ZonedToolpathProblem, zoning_config
+from evoplan.problems.toolpath.tools import CHOI_TOOLS
+from tests.choi_zoning import choi_zoning
 from tests.test_cli import evoplan, write
 
 NORM = {"machining_error": [0.0, 1.0], "cc_count": [0.0, 2000.0]}
@@ -125,16 +126,14 @@ def test_single_zone_gives_the_engines_numbers_on_the_table2_sets(fountas_proble
             assert got["cc_count"].tolist() == [361, 289] and got["n_passes"].tolist() == [22, 17]
 
 
-def test_the_old_zoning_problem_is_a_configuration_of_toolpath():
-    config = zoning_config(mesh=(10, 10), zones=(1, 3))
-    assert config["machine"] == "3axis" and config["spacing"] == "scallop"
-    assert config["fixed"] == {"step": 1.0} and config["ranges"] == {"zones": (1, 3)}
-    old = ZonedToolpathProblem(mesh=(10, 10), zones=(1, 3))
-    new = ToolpathProblem(**config)
-    assert list(old.variables) == list(new.variables) == ["tool", "zones"]
+def test_the_zoned_configuration_minimizes_the_eq4_total():
+    """Choi's zoned 3-axis configuration (the removed ``toolpath_zoning`` problem's): the
+    tool and K free, F is Djebali's Eq. 4 total in mm."""
+    new = ToolpathProblem(**choi_zoning(mesh=(10, 10), gene_range=(1, 3)))
+    assert list(new.variables) == ["tool", "zones"]
     X = np.array([[0, 1], [1, 2]], float)
-    c = old.criteria(X)
-    # total_length is Djebali's Eq. 4, recomputed here from the plan's polylines: the
+    c = new.criteria(X)
+    # eq4_total is Djebali's Eq. 4, recomputed here from the plan's polylines: the
     # sections' lengths plus (zones - 1) delta_l (40 mm)
     batch, _ = new.plan(X, place=False)
     cutting = np.zeros(len(X))
@@ -142,13 +141,22 @@ def test_the_old_zoning_problem_is_a_configuration_of_toolpath():
         pts = batch.p[batch.sec_start[s]:batch.sec_start[s] + batch.sec_count[s]]
         cutting[batch.sec_ind[s]] += np.linalg.norm(np.diff(pts, axis=0), axis=1).sum()
     assert c["zones"].tolist() == [1.0, 2.0]
-    np.testing.assert_allclose(c["total_length"], cutting + [0.0, 40.0], rtol=1e-12)
-    np.testing.assert_allclose(c["penalty"], [0.0, 40.0])
-    np.testing.assert_array_equal(old.evaluate(X)[:, 0], c["total_length"])  # F in mm
-    with pytest.raises(ValueError, match=r"^zones: expected integers in \[1, 100\]"):
-        ZonedToolpathProblem(mesh=(10, 10), zones=(1, 101))
-    with pytest.raises(ValueError, match=r"^method: 'single' has no setting to optimize"):
-        ZonedToolpathProblem(mesh=(10, 10), method="single")
+    np.testing.assert_allclose(c["eq4_total"], cutting + [0.0, 40.0], rtol=1e-12)
+    np.testing.assert_array_equal(new.evaluate(X)[:, 0], c["eq4_total"])  # F in mm
+    with pytest.raises(ValueError, match=r"^ranges.zones: expected integers in \[1, 100\]"):
+        ToolpathProblem(**choi_zoning(mesh=(10, 10), gene_range=(1, 101)))
+    with pytest.raises(ValueError, match=r"^weights.total_length: renamed eq4_total$"):
+        ToolpathProblem(**choi_zoning(mesh=(10, 10), weights={"total_length": 1.0}))
+
+
+def test_the_removed_zoning_problem_names_its_new_form(tmp_path):
+    cfg = write(tmp_path / "old.yaml", "problem: {name: toolpath_zoning, params: {mesh: [10, 10]}}\n"
+                "algorithm: {name: ga, population: 4}\ntermination: {generations: 1}\n")
+    proc = evoplan("run", cfg, "--out", tmp_path / "out")
+    code, err = proc.returncode, proc.stderr
+    assert code == 2 and err.count("\n") == 1 and "Traceback" not in err
+    assert "toolpath_zoning: removed, write name: toolpath with machine: 3axis" in err
+    assert not (tmp_path / "out").exists()
 
 
 RUN = """

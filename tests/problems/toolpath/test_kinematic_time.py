@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 
 from evoplan.problems.toolpath.cutters import make_cutter
-from evoplan.problems.toolpath.criteria.kinematic_time import Dynamics, chain_time, parse_dynamics
+from evoplan.problems.toolpath.criteria.kinematic_time import Dynamics, chain_time
+from evoplan.problems.toolpath.spec import ToolpathSpec
 
 DYN = Dynamics()                  # jerk 40 m/s^3, accel 6 m/s^2, feed 5 m/min
 F = 5000.0 / 60.0                 # mm/s
@@ -77,7 +78,7 @@ def test_gentle_points_cost_nothing_and_sharp_corners_slow_down():
 @pytest.mark.parametrize("key,value", [("accel", 0), ("jerk", -1), ("feed", "fast")])
 def test_bad_limits_name_their_key(key, value):
     with pytest.raises(ValueError, match=f"^dynamics.{key}: "):
-        parse_dynamics({key: value})
+        ToolpathSpec.from_params({"dynamics": {key: value}})
 
 
 def test_the_criterion_on_plans_limits_to_the_nominal_and_is_weightable():

@@ -9,7 +9,7 @@ from evoplan.problems.toolpath.geometry.spec import parse_surface
 from evoplan.problems.toolpath.plan.planner import Planner
 from evoplan.problems.toolpath.plan.zones import ZoningSpec
 from evoplan.problems.toolpath.simulation import design_grid, residual_metrics, sweep_path
-from evoplan.problems.toolpath.tools import parse_tools
+from evoplan.problems.toolpath.spec import parse_tools
 
 TORUS = [{"id": 1, "type": "toroidal", "diameter": 6.35, "corner_radius": 1.0}]
 H_C = 0.254

@@ -171,7 +171,7 @@ def test_a_ball_plan_on_a_step_cylinder_leaves_the_circle_intersection_cusp(tmp_
 
     from evoplan.problems.toolpath.plan.planner import Planner
     from evoplan.problems.toolpath.simulation import design_grid, sweep_path
-    from evoplan.problems.toolpath.tools import parse_tools
+    from evoplan.problems.toolpath.spec import parse_tools
 
     rho, r, length, half = 30.0, 4.0, 20.0, np.radians(22.0)
     cyl = Geom_CylindricalSurface(gp_Ax3(gp_Pnt(0, 0, 0), gp_Dir(1, 0, 0), gp_Dir(0, 1, 0)), rho)

@@ -11,7 +11,7 @@ from evoplan.problems.toolpath.geometry.spec import parse_surface
 from evoplan.problems.toolpath.plan.planner import Planner
 from evoplan.problems.toolpath.plan.strategies import STRATEGIES, get_strategy
 from evoplan.problems.toolpath.simulation import design_grid, simulate
-from evoplan.problems.toolpath.tools import parse_tools
+from evoplan.problems.toolpath.spec import parse_tools
 
 BALL = [{"id": 1, "type": "ball", "diameter": 6.35}]
 H_C = 0.254

@@ -17,7 +17,7 @@ from evoplan.problems.toolpath.export.apt_write import apt_program
 from evoplan.problems.toolpath.simulation import analytic_grid, sweep_path
 from evoplan.problems.toolpath.simulation.convex import _at
 from evoplan.problems.toolpath.simulation.kernel import MISS, _entry, ray_entry
-from evoplan.problems.toolpath.tools import parse_tools
+from evoplan.problems.toolpath.spec import parse_tools
 
 D, R_BALL, BETA = 8.0, 1.0, 10.0
 

@@ -13,7 +13,7 @@ from evoplan.problems.toolpath.geometry.chord import (
 )
 from evoplan.problems.toolpath.plan.planes import PassGeometry
 from evoplan.problems.toolpath.plan.planner import Planner
-from evoplan.problems.toolpath.tools import parse_tools
+from evoplan.problems.toolpath.spec import parse_tools
 
 #: a ball D100: a step-over of x % of D is x mm in XY
 D100 = parse_tools([{"diameter": 100, "corner_radius": 50}])

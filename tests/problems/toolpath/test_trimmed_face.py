@@ -16,7 +16,7 @@ from evoplan.problems.toolpath.geometry.spec import parse_surface  # noqa: E402
 from evoplan.problems.toolpath.plan.planner import Planner  # noqa: E402
 from evoplan.problems.toolpath.plan.zones import ZoningSpec  # noqa: E402
 from evoplan.problems.toolpath.simulation import design_grid, sweep_path  # noqa: E402
-from evoplan.problems.toolpath.tools import parse_tools  # noqa: E402
+from evoplan.problems.toolpath.spec import parse_tools  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[3]
 PART = ROOT / "runs" / "parts" / "sculpted_block.step"

@@ -11,7 +11,7 @@ from evoplan.problems.toolpath import ToolpathProblem
 from evoplan.problems.toolpath.plan.planner import Planner
 from evoplan.problems.toolpath.plan.zones import ZoningSpec
 from evoplan.problems.toolpath.plan.zoning.methods import register, unregister
-from evoplan.problems.toolpath.tools import parse_tools
+from evoplan.problems.toolpath.spec import parse_tools
 
 SLOPE = 0.4
 STEP = 1.0

@@ -190,19 +190,20 @@ def test_zone_cli_writes_everything_or_nothing(tmp_path):
 
 
 def test_zoning_genes_in_the_toolpath_problem():
-    from evoplan.problems.toolpath.zoned import ZonedToolpathProblem
+    from evoplan.problems.toolpath import ToolpathProblem
+    from tests.choi_zoning import choi_zoning
 
-    prob = ZonedToolpathProblem(mesh=(30, 30), zones=(1, 4))
+    prob = ToolpathProblem(**choi_zoning(mesh=(30, 30), gene_range=(1, 4)))
     assert list(prob.variables) == ["tool", "zones"]
     X = np.array([[0, 1], [1, 1], [1, 2]], float)  # ball 1 zone, torus 1 zone, torus K=2
     c = prob.criteria(X)
     assert c["zones"][0] == c["zones"][1] == 1 and c["zones"][2] >= 2
-    assert np.allclose(c["total_length"], c["cutting_length"] + (c["zones"] - 1) * 40.0)
+    assert np.allclose(c["eq4_total"], c["cutting_length"] + (c["zones"] - 1) * 40.0)
     out = {}
     prob._evaluate(X, out)
-    assert np.allclose(out["F"][:, 0], c["total_length"])
-    assert c["total_length"][2] < c["total_length"][1]  # zoning pays off for the torus
-    with pytest.raises(ValueError, match="^zones: expected integers in \\[1, 400\\]"):
-        ZonedToolpathProblem(mesh=(20, 20), zones=(1, 401))
-    with pytest.raises(ValueError, match="^k_lz: the range must lie in \\[0, 1\\]"):
-        ZonedToolpathProblem(mesh=(20, 20), method="amas", k_lz=(0.1, 1.5))
+    assert np.allclose(out["F"][:, 0], c["eq4_total"])
+    assert c["eq4_total"][2] < c["eq4_total"][1]  # zoning pays off for the torus
+    with pytest.raises(ValueError, match="^ranges.zones: expected integers in \\[1, 400\\]"):
+        ToolpathProblem(**choi_zoning(mesh=(20, 20), gene_range=(1, 401)))
+    with pytest.raises(ValueError, match="^ranges.k_lz: the range must lie in \\[0, 1\\]"):
+        ToolpathProblem(**choi_zoning(mesh=(20, 20), method="amas", gene_range=(0.1, 1.5)))

@@ -17,7 +17,8 @@ from evoplan.problems.toolpath.plan.zoning.merge import (MergeSettings, merge_by
 from evoplan.problems.toolpath.plan.zoning.methods import (REGISTRY, ZoningMethod, ZoningSettings,
                                                       register, unregister)
 from evoplan.problems.toolpath.plan.zoning.plan import plan_zones
-from evoplan.problems.toolpath.zoned import ZonedToolpathProblem
+from evoplan.problems.toolpath import ToolpathProblem
+from tests.choi_zoning import choi_zoning
 from evoplan.problems.toolpath.plan.zoning.samples import sample_surface
 from evoplan.problems.toolpath.plan.zoning.stepover import ScallopTarget
 
@@ -85,8 +86,8 @@ def test_a_method_registered_in_a_test_plans_and_runs_the_command(strips, tmp_pa
     assert cli_main(["zone", str(cfg), "--out", str(tmp_path / "bad")]) == 2
     assert not (tmp_path / "bad").exists()
     # and the toolpath problem refuses it as a gene source: it declares no gene
-    with pytest.raises(ValueError, match="has no setting to optimize as a gene"):
-        ZonedToolpathProblem(mesh=(6, 6), method="strips_test")
+    with pytest.raises(ValueError, match=r"^ranges.zones: not a gene of this configuration"):
+        ToolpathProblem(**choi_zoning(mesh=(6, 6), method="strips_test", ranges={"zones": [1, 3]}))
 
 
 def test_unknown_method_lists_the_registered_ones(strips, tmp_path, capsys):
