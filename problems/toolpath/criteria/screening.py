@@ -8,6 +8,8 @@ evaluated in rounds:
    plan) and a prediction of its simulated objective, ``p = a + c``, with ``c`` the
    correction learned from the pairs (analytic, simulated) this run has simulated so far;
 2. the ``ceil(fraction n)`` plans of lowest ``p`` are simulated (``criteria/simulated.py``);
+   With ``correction: nearest``, so is the best-predicted plan of each tool (and strategy)
+   of the batch that has no simulated plan yet (at most one simulation per tool in a run);
 3. every plan not yet simulated whose prediction, re-made with the new pairs, is at or below
    the best simulated objective so far (the **elite**: a plan that could become the run's
    best) is simulated too; step 3 repeats until no such plan is left.
@@ -112,6 +114,21 @@ class Screening:
         local = (w * self._residual[near]).sum(axis=1) / np.where(has, w.sum(axis=1), 1.0)
         return a + np.where(has, local, offset)
 
+    def _untried(self, cat: np.ndarray, p: np.ndarray) -> np.ndarray:
+        """The best-predicted plan of each tool (and strategy) of the batch of which no plan
+        has been simulated yet: without a pair of its own a category gets the offset of the
+        others, and the analytic bias differs by tool, so one simulation each learns it."""
+        out = np.zeros(len(p), bool)
+        if cat.shape[1] == 0:
+            return out
+        known = {tuple(row) for row in self._cat.tolist()} if self._cat.shape[1] == cat.shape[1] else set()
+        best: dict = {}
+        for i, row in enumerate(map(tuple, cat.tolist())):
+            if row not in known and np.isfinite(p[i]) and (row not in best or p[i] < p[best[row]]):
+                best[row] = i
+        out[list(best.values())] = True
+        return out
+
     def _learn(self, z, cat, residual) -> None:
         if self._z.shape[1] != z.shape[1] or self._cat.shape[1] != cat.shape[1]:
             self._z, self._cat = np.zeros((0, z.shape[1])), np.zeros((0, cat.shape[1]))
@@ -138,6 +155,8 @@ class Screening:
         take = np.zeros(n, bool)
         order = np.argsort(np.where(np.isfinite(p), p, np.inf), kind="stable")
         take[order[: math.ceil(self.fraction * n)]] = True
+        if self.correction == "nearest":
+            take |= self._untried(cat, f)
         while take.any():
             rows = np.flatnonzero(take)
             sim = {k: v[rows] for k, v in crit.items()} | problem.simulate_rows(genes, rows)

@@ -139,3 +139,17 @@ def test_screening_needs_the_serial_backend_and_one_objective():
         "algorithm": {"name": "nsga2", "pop_size": 4}}
     with pytest.raises(ConfigError, match="screening: ranks plans by one objective"):
         prepare(parse_config(multi), "run.yaml")
+
+
+def test_nearest_simulates_the_best_plan_of_a_tool_not_simulated_yet():
+    # analytic ranks the tool-1 plans last; with no tool-1 pair their correction is a guess,
+    # so the best-predicted tool-1 plan is simulated beside the best quarter
+    fake = FakeProblem(np.full(8, 0.5))
+    X = fake_batch(np.arange(1, 9) * 10.0)
+    X[5:, 0] = 1.0  # rows 5, 6, 7 use tool 1
+    screen = Screening({"fraction": 0.25})
+    _, cost = screen.evaluate(fake, X)
+    assert fake.asked == [0, 1, 5] and cost.sum() == 3
+    fake.asked = []
+    _, cost = screen.evaluate(fake, X)  # both tools known now: the best quarter alone
+    assert len(fake.asked) == 2 and cost.sum() == 2
