@@ -29,8 +29,8 @@ FOOTER = """Reading the table:
 
 - The ball-end single zone (1651 mm, planes along X) is 4 % under Choi's iso-scallop 1717 mm.
 - The target (a zoned total <= 1050 mm) is NOT met: the best zoned total is K-means K = 2
-  (3 connected zones) at 1346 mm with the exact profile (1316 mm with the R_eff circle), 6-9 %
-  better than Herraz's 1437 mm and 11-14 % worse than Djebali's 1183 mm.
+  (3 connected zones) at 1351 mm with the exact profile (1339 mm with the R_eff circle), 6-7 %
+  better than Herraz's 1437 mm and 13-14 % worse than Djebali's 1183 mm.
 - Floor of this model: with every sample fed along its own steepest slope and its own local
   step-over (no zones, no pass-wide worst point), the torus r = 1 would need 917 mm (profile;
   838 mm circle). A zoned plan pays the pass-wide worst point (Herraz's rule: a plane's
@@ -43,16 +43,16 @@ FOOTER = """Reading the table:
   tiny zones sit at the saddle's flat centre (slope under 1 deg), whose direction is noise.
 - AMAS, merged (the `evoplan zone` default): zones under 2 % of the area join the neighbour of
   closest slope-weighted direction, then adjacent zones merge while that shortens Eq. 4.
-  Weighted AMAS gives 3 zones, 1362-1385 mm with r = 1 (profile), 17-18 % under the single
-  zone's 1669 mm; 1393-1422 mm with r = 1.27 against 1624 mm. The Eq. 4 step only merges when
+  Weighted AMAS gives 3 zones, 1370-1414 mm with r = 1 (profile), 17-19 % under the single
+  zone's 1694 mm; 1406-1431 mm with r = 1.27 against 1648 mm. The Eq. 4 step only merges when
   a merge shortens the total, and in this table no merged total exceeds its raw one.
-- K-means K >= 5 fragments into 17-19 zones (1960-2060 mm raw); merged, 3 zones and
-  1364-1370 mm (r = 1, profile).
+- K-means K >= 5 fragments into 17-19 zones (1982-2073 mm raw); merged, 3 zones and
+  1371-1372 mm (r = 1, profile).
 - The paper's "printed" satisfaction gives 2-3 zones raw; merging leaves them or joins them
   (r = 1.27, seeds 0 and 2: back to the single zone).
 - "circle" is the issue's R_eff model (Djebali Eq. 1 + curvature); "profile" is the exact
   swept profile of the torus, which does not collapse to R_eff = r on gentle slopes fed
-  across (the circle's single-zone 2269 mm is that artifact).
+  across (the circle's single-zone 2314 mm is that artifact).
 """
 
 PUBLISHED = {"ball": "1717 (Choi)", 1.0: "1183 (Djebali, AMAS)", 1.27: "1437 (Herraz, K-means)"}
