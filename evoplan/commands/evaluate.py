@@ -154,10 +154,10 @@ def _nc_program(problem, X, post_name: str) -> bytes:
 
     cls = POSTS[post_name]
     genes = problem.genes.decode(problem.check(X))
-    path = problem.planner.cl_path(genes, problem.feed_rate)
+    path = problem.planner.cl_path(genes, problem.programmed_feed(genes))
     tool = problem.tool_db.tools[int(genes["tool"][0])]
     tp = Toolpath.from_sections("finish", tool, path.tip, path.axis, path.section,
-                                feed=tool.feed or problem.feed_rate, plunge_feed=tool.plunge_feed)
+                                feed=path.feed_rate, plunge_feed=tool.plunge_feed)
     if not cls.five_axis and tp.multi_axis:
         raise ValueError(f"{post_name} is a 3-axis post and the plan is 5-axis (use fanuc, heidenhain or siemens)")
     kin = Kinematics("table_table", Rotary("A", "x", (-30.0, 110.0)), Rotary("C", "z", (-360.0, 360.0)))

@@ -205,7 +205,8 @@ class ToolpathProblem(Problem):
         of each row's CL path (``criteria: simulated``)."""
         measured = []
         for i in rows:
-            path = self.planner.cl_path({k: v[i:i + 1] for k, v in genes.items()}, self.feed_rate)
+            one = {k: v[i:i + 1] for k, v in genes.items()}
+            path = self.planner.cl_path(one, self.programmed_feed(one))
             flat = self.tool_db.cutter(int(genes["tool"][i])).sharp_rim
             measured.append(self.simulated.measure(path, flat))
         return {name: np.array([m[name] for m in measured])
@@ -244,11 +245,17 @@ class ToolpathProblem(Problem):
         layout = self.planner.layout(genes)
         return None if layout is None else layout.labels
 
+    def programmed_feed(self, genes: dict) -> float:
+        """The feed (mm/min) the first plan of ``genes`` is programmed at, in its APT and NC
+        files and in both machining times: its tool's library ``feed``, else ``feed_rate``."""
+        tool = self.tool_db.tools[int(np.atleast_1d(genes["tool"])[0])]
+        return float(tool.feed or self.feed_rate)
+
     def cl_path(self, params):
         """(CLPath, mesh labels or None): the toolpath of one decision set (by name, the tool
         by its id) as the machine runs it; the labels of a zoned plan (``evoplan simulate``)."""
         genes = self.genes.decode(self.row(params))
-        return self.planner.cl_path(genes, self.feed_rate), self.labels(genes)
+        return self.planner.cl_path(genes, self.programmed_feed(genes)), self.labels(genes)
 
     def artifacts(self, x) -> dict[str, bytes]:
         """Result files of one decision set ``x`` (a phenotype row, the tool as its index):
@@ -259,5 +266,5 @@ class ToolpathProblem(Problem):
 
         X = self.check(np.asarray(x, float).reshape(1, -1))
         batch, genes = self.plan(X)
-        path = self.planner.cl_path(genes, self.feed_rate)
+        path = self.planner.cl_path(genes, self.programmed_feed(genes))
         return plan_artifacts(self, batch, genes, path)

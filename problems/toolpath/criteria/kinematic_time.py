@@ -44,8 +44,9 @@ __all__ = ["Dynamics", "chain_time", "plan_times", "kinematic_time", "toolpath_t
 
 
 class Dynamics(BaseModel):
-    """The machine's limits: ``accel`` m/s^2, ``jerk`` m/s^3, ``feed`` mm/min (used when a
-    tool has none), ``rapid`` mm/min, ``corner_tolerance`` mm (junction deviation), each > 0
+    """The machine's limits: ``accel`` m/s^2, ``jerk`` m/s^3, ``feed`` mm/min (only for an NC
+    move that names no feed: a plan runs at its programmed feed, the tool library's or
+    ``feed_rate``), ``rapid`` mm/min, ``corner_tolerance`` mm (junction deviation), each > 0
     (``rapid`` may be infinite). Defaults: Herraz et al.'s jerk 40 m/s^3, acceleration
     6 m/s^2, feed 5 m/min. A run file's ``dynamics`` mapping is this model."""
 
@@ -53,7 +54,7 @@ class Dynamics(BaseModel):
 
     accel: float = Field(6.0, description="m/s^2")
     jerk: float = Field(40.0, description="m/s^3")
-    feed: float = Field(5000.0, description="mm/min, for a tool without its own feed")
+    feed: float = Field(5000.0, description="mm/min, for an NC move that names no feed")
     rapid: float = Field(10000.0, description="mm/min")
     corner_tolerance: float = Field(0.01, description="mm (junction deviation)")
 
@@ -244,11 +245,12 @@ def plan_times(batch, dyn: Dynamics, feed_mm_min) -> np.ndarray:
     return total / 60.0
 
 
-def kinematic_time(batch, tools, tool_index, dynamics=None) -> np.ndarray:
-    """``machining_time`` (min) per plan: :func:`plan_times` at each plan's tool feed (the
-    tool library's ``feed``, else ``dynamics.feed``)."""
+def kinematic_time(batch, tools, tool_index, dynamics=None, *, feed_rate: float) -> np.ndarray:
+    """``machining_time`` (min) per plan: :func:`plan_times` at each plan's programmed feed,
+    the feed its APT and NC programs carry (the tool library's ``feed``, else ``feed_rate``),
+    so it is never below the length over that feed."""
     dyn = dynamics or Dynamics()
-    feeds = np.array([getattr(t, "feed", None) or dyn.feed for t in tools.tools], float)
+    feeds = np.array([getattr(t, "feed", None) or float(feed_rate) for t in tools.tools], float)
     return plan_times(batch, dyn, feeds[np.asarray(tool_index, int)] if batch.n else np.zeros(0))
 
 

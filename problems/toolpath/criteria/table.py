@@ -66,8 +66,9 @@ _TABLE = (
     Criterion("path_length", "mm", True, "cutting + link + inter-zone length"),
     Criterion("machining_time", "min", True,
               "the plan as the machine runs it: jerk-limited S-curve feed profile under the "
-              "`dynamics` limits (default jerk 40 m/s^3, acceleration 6 m/s^2, feed 5 m/min or "
-              "the tool's), slowed at every direction change, zone changes as rapids"),
+              "`dynamics` limits (default jerk 40 m/s^3, acceleration 6 m/s^2) at the "
+              "programmed feed (the tool library's, else feed_rate), slowed at every direction "
+              "change, zone changes as rapids"),
     Criterion("machining_time_nominal", "min", True,
               "path length / feed (the tool library's feed, else feed_rate; no rapids, no "
               "acceleration limits)"),
