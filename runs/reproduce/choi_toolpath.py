@@ -55,31 +55,31 @@ READING = """## Reading
   inside the part's edge, which tells zone borders and the inside from the edge row.
 - Target: NOT met. No plan that really keeps the scallop under h_c comes near Djebali's
   1183 mm. The shortest zoned toroidal plan that meets h_c (the line under the main table)
-  is about 7 % shorter than the single-zone ball and 12 % shorter than the single-zone torus
+  is about 6 % shorter than the single-zone ball and 13 % shorter than the single-zone torus
   of this engine. Counted as the papers count (on the part, plus Eq. 4's 40 mm a zone),
-  it is 1395 mm, just under Herraz's 1437 mm.
-- Failures inside the part (see *max > 1 mm in*): K-means K=5 (torus r 1) leaves 0.35 mm
-  on the zone border at y = 38 mm, x = 3-9 mm; AMAS k_LZ=0.15 (r 1) and k_LZ=0.05
-  (r 1.27) leave 0.28-0.29 mm on or next to a zone border. The single-zone tori, AMAS
-  k_LZ=0.3 (r 1) and K=6 (r 1.27) fail only in the edge row and corners (0.29 mm spikes, a
-  few uncut cells). The flat end mill fails inside too (0.30 mm). No plan gouges more than
-  0.008 mm (the chord tolerance is 0.01 mm).
+  it is 1468 mm, 2 % over Herraz's 1437 mm.
+- Every zoned plan meets h_c on this grid; more than 1 mm inside the part's edge (*max > 1
+  mm in*) the zoned tori leave 0.241-0.266 mm, within 1.1 h_c. The plans that fail are the
+  single-zone torus r 1 (0.289 mm) and the flat end mill (0.331 mm), both only within 1 mm
+  of the edge (inside, 0.252 and 0.253 mm). No plan gouges more than 0.005 mm (the chord
+  tolerance is 0.01 mm); the uncut share rounds to 0.00 % everywhere.
 - Where the length goes (second table): the worst-point rule of parallel planes (each plane
-  as far from the previous one as its pass's WORST point allows) costs 25-28 % over the
+  as far from the previous one as its pass's WORST point allows) costs 26-31 % over the
   local-spacing floor, in every zone alike. Cutting each plane wherever its band (the strip
-  to its two neighbours) holds zone material adds 1-9 % over the binned plan. The edge
-  runs add 120-255 mm and Eq. 4 adds 40 mm a zone. With three zones the floor alone is
-  1007-1028 + 80 mm, already close to 1183 mm. So a zoned parallel-plane plan that really
+  to its two neighbours) holds zone material changes the binned plan by -1 to +10 %. The
+  edge runs add 127-255 mm and Eq. 4 adds 40 mm a zone. With three zones the floor alone is
+  1007-1020 + 80 mm, already close to 1183 mm. So a zoned parallel-plane plan that really
   meets h_c cannot reach 1183 mm on this surface: the gap is in the pass rule (one spacing
   along a whole pass), not in the zones. The direction search minimizes the binned length,
   not the real sections'; choosing each zone's direction by its real sections instead (the
-  sixth column, a 7.5 deg grid) saves 3-16 mm (0.2-1.1 %) of the on-part length.
-- Levers (third table): planning at a larger h_c does not pay. At 5 % over h_c the
-  simulated max is at or over 1.1 h_c (0.279-0.308 mm): the spacing is tight at the worst
-  points, where the simulated scallop does reach h_c, and the p99 headroom comes from the
-  rest of each pass. The scaled h_c also changes the zones and directions, so a plan does
-  not even get shorter every time. Fewer, larger zones (merging up to 20 % of the area)
-  make the plans longer. Without merging, K-means K=5 and AMAS split into 17-161 zones.
+  sixth column, a 7.5 deg grid) saves 2-15 mm (0.2-1.1 %) of the on-part length.
+- Levers (third table): planning at 5 % over h_c still meets h_c on every plan (simulated
+  max 0.258-0.264 mm) and saves 21-33 mm of Eq. 4 (1.3-2.0 %); at 10 % over, K-means K=5
+  fails (0.280 mm) and AMAS k_LZ=0.05 gets longer (1664 mm: its runs past the edge grow
+  from 134 to 213 mm). None comes near 1183 mm (the shortest, K-means K=2 at h_c x 1.1, is
+  1554 mm). Merging up to 20 % of the area keeps K-means K=2's three zones; it leaves K=5
+  and AMAS two zones, longer (1675-1686 mm) and failing (0.294-0.299 mm). Without merging,
+  K-means K=5 and AMAS split into 17-161 zones.
 """
 
 
