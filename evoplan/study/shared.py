@@ -26,7 +26,7 @@ from typing import Any
 
 from ..problem_factory import make_problem
 
-SHARED = frozenset({"toolpath", "toolpath_zoning"})  # pure objectives, costly to build
+SHARED = frozenset({"toolpath"})  # pure objectives, costly to build
 MAX_KEPT = 4
 STATS = {"built": 0, "reused": 0}
 _MEMO: OrderedDict[str, Any] = OrderedDict()
