@@ -59,7 +59,7 @@ ROWS = [  # criterion, label, format
     ("r_eff", "effective radius (mm)", "{:.1f}"),
     ("path_length", "path length (mm)", "{:.0f}"),
     ("machining_time_nominal", "time, path length / feed (min)", "{:.2f}"),
-    ("machining_time", "kinematic time (min, dynamics feed)", "{:.2f}"),
+    ("machining_time", "kinematic time (min)", "{:.2f}"),
     ("objective", "objective (Eq. 9)", "{:.4f}"),
 ]
 ZONED_ROWS = [  # criterion, label, format (the zoned configuration's analytic criteria)
@@ -105,8 +105,8 @@ WHY = """\
   ranking is comparable, and here it is reversed: the engine prefers the GA set
   (denser passes, smaller cusps).
 - Time: the paper's times came from the CNC (approach, rapids, acceleration); evoplan's first
-  is path length / feed rate, the kinematic one the S-curve feed profile under the default
-  `dynamics` limits, at their 5 m/min feed (the run file sets no dynamics).
+  is path length / feed rate, the kinematic one the S-curve feed profile at the same feed
+  under the default `dynamics` limits (the run file sets none).
 """
 
 READING = """## Reading (the committed 0.1 mm run above)
