@@ -256,34 +256,34 @@ def main() -> None:
 
 READING = """## Reading (the committed run above)
 
-- **Time.** The 20 runs took 1026 s on the processes backend (2 workers) while other jobs kept
-  the 2-core box at a load of 5-8: about 100 s per run, most of it the (K, tool) zone layouts
-  (15 per run, built again in every run) rather than the 500 evaluations. Report and
-  simulation of the two best plans: about 30 s. Whole script from scratch: about 18 minutes.
+- **Time.** The 20 runs took 181 s on the processes backend (2 workers) while other jobs kept
+  the 2-core box at a load of about 4: a median of 18 s per GA run and 9 s per VEGA run.
+  Report and simulation of the two best plans: about 10 s. Whole script from scratch: about
+  3.5 minutes.
 - **Equal budget.** Both algorithms were charged about 501 distinct evaluations (a
   generation is never cut; each run is credited with its best among its first 500). The GA
-  needed 104 generations for them, VEGA 55: its infections are evaluations too.
-- **VEGA against the GA.** VEGA's median is lower (0.20539 against 0.20604) and its spread
-  smaller (IQR 0.00087 against 0.00119; worst run 0.20621 against 0.20968), but at 10 seeds
-  the difference is not significant: Wilcoxon p = 0.32 (rank-biserial -0.38), Mann-Whitney
-  p = 0.26. The GA found the single best plan (0.20475 against VEGA's 0.20501). In plan terms
+  needed 98 generations for them, VEGA 65: its infections are evaluations too.
+- **VEGA against the GA.** VEGA's median is barely lower (0.20676 against 0.20684) and its
+  spread smaller (IQR 0.00066 against 0.00093; worst run 0.21030 against 0.21059), but at 10
+  seeds there is no difference to speak of: Wilcoxon p = 0.85 (rank-biserial -0.09),
+  Mann-Whitney p = 0.97. The GA found the single best plan (0.20556 against VEGA's 0.20583). In plan terms
   the differences are small: 0.001 of this Eq. 9 is about 8 mm of Eq. 4 length
   (0.45 / 3800 mm) or 0.002 mm of scallop (0.45 / 1 mm).
 - **What the optimum is.** Every run's best is the ball, a step-over of 32-39 % of D (XY
-  spacing 2.0-2.5 mm) and a step of 3.0-3.7 mm, and whatever its K-means K (1 to 5), its plan
+  spacing 2.0-2.5 mm) and a step of 3.1-3.7 mm, and whatever its K-means K (1 to 5), its plan
   has ONE zone after merging: with a ball and a fixed step-over, splitting Choi's surface does
   not shorten the cutting length by more than the 40 mm each extra zone costs, so the merging
   joins the zones back. The zones gene is neutral at the optimum (seed 3: K 3 and K 1 give
   the same value to 3e-8), and the search is in effect over the step-over and the step.
-- **The best plans are valid plans.** The GA's best (ball, 36.27 %, 3.647 mm, Eq. 4 total
-  1803.7 mm, 1054 CC points) leaves a simulated scallop of max 0.226 / p99 0.216 / mean
+- **The best plans are valid plans.** The GA's best (ball, 36.27 %, 3.523 mm, Eq. 4 total
+  1810.6 mm, 1054 CC points) leaves a simulated scallop of max 0.226 / p99 0.216 / mean
   0.072 mm, gouge 0.009 mm (about the chord tolerance of the moves), nothing uncut: it meets
   h_c = 0.254 mm, and the analytic scallop (0.231 mm) is above the simulated maximum. VEGA's
-  best (35.18 %, 1856.8 mm) leaves max 0.219 / p99 0.202 mm. A fixed step-over must suit the
+  best (37.41 %, 3.663 mm, 1757.4 mm) leaves max 0.249 / p99 0.228 mm (analytic 0.246). A fixed step-over must suit the
   steepest slope, so these plans are longer than Choi's iso-scallop 1717 mm; the plans
   spaced by the scallop target (`spacing: scallop`) are the ones to compare with the
   published lengths. h_c is not a constraint of this objective, only the scallop's weight:
-  seed 0's GA best (38.6 %, 1697.6 mm) has an analytic scallop of 0.262 mm, above h_c.
+  seed 0's GA best (38.6 %, 1704.1 mm) has an analytic scallop of 0.262 mm, above h_c.
 - **Not done: a 5-axis Choi variant.** Choi's part and every published length on it (Choi,
   Djebali, Herraz) are 3-axis; a 5-axis variant would need its own objective and bounds
   (this one was set for a 3-axis ball's scallop) and double the study's time. On Fountas'
