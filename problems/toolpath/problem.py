@@ -248,8 +248,7 @@ class ToolpathProblem(Problem):
     def programmed_feed(self, genes: dict) -> float:
         """The feed (mm/min) the first plan of ``genes`` is programmed at, in its APT and NC
         files and in both machining times: its tool's library ``feed``, else ``feed_rate``."""
-        tool = self.tool_db.tools[int(np.atleast_1d(genes["tool"])[0])]
-        return float(tool.feed or self.feed_rate)
+        return float(self.tool_db.feeds(self.feed_rate)[int(np.atleast_1d(genes["tool"])[0])])
 
     def cl_path(self, params):
         """(CLPath, mesh labels or None): the toolpath of one decision set (by name, the tool

@@ -118,6 +118,11 @@ class ToolDatabase:
     def __len__(self) -> int:
         return len(self.tools)
 
+    def feeds(self, feed_rate: float) -> np.ndarray:
+        """(n,) the feed (mm/min) each tool's plans are programmed at, in their APT and NC
+        files and in both machining times: the tool's library ``feed``, else ``feed_rate``."""
+        return np.array([t.feed or float(feed_rate) for t in self.tools], dtype=float)
+
     def cutter(self, index) -> Cutter:
         """The cutter of the tool at ``index`` (0 .. n-1)."""
         return self.cutters[int(index)]

@@ -236,11 +236,10 @@ def analytic_criteria(batch, surface, tools, genes: dict, *, allowance: float,
     crit["undercut_max"] = np.where(sharp, crit["scallop_max"], 0.0)
     crit |= plan_lengths(batch)
     crit["path_length"] = crit["cutting_length"] + crit["link_length"] + crit["interzone_length"]
-    # both times at the plan's programmed feed (the library's, else feed_rate): the one its
-    # APT and NC programs carry
-    tool_feed = np.array([getattr(t, "feed", None) or float(feed_rate) for t in tools.tools], float)
-    crit["machining_time_nominal"] = crit["path_length"] / tool_feed[ti]
-    crit["machining_time"] = kinematic_time(batch, tools, ti, dynamics, feed_rate=feed_rate)
+    # both times at the plan's programmed feed, the one its APT and NC programs carry
+    feed = tools.feeds(feed_rate)[ti]
+    crit["machining_time_nominal"] = crit["path_length"] / feed
+    crit["machining_time"] = kinematic_time(batch, feed, dynamics)
     crit["eq4_total"] = eq4_total(crit["cutting_length"], crit["zones"], delta_l)
     crit["length_on_part_mm"] = np.bincount(seg_ind, batch.seg_len[chords], n)
     crit["length_papers_mm"] = eq4_total(crit["length_on_part_mm"], crit["zones"], delta_l)

@@ -245,13 +245,11 @@ def plan_times(batch, dyn: Dynamics, feed_mm_min) -> np.ndarray:
     return total / 60.0
 
 
-def kinematic_time(batch, tools, tool_index, dynamics=None, *, feed_rate: float) -> np.ndarray:
-    """``machining_time`` (min) per plan: :func:`plan_times` at each plan's programmed feed,
-    the feed its APT and NC programs carry (the tool library's ``feed``, else ``feed_rate``),
-    so it is never below the length over that feed."""
-    dyn = dynamics or Dynamics()
-    feeds = np.array([getattr(t, "feed", None) or float(feed_rate) for t in tools.tools], float)
-    return plan_times(batch, dyn, feeds[np.asarray(tool_index, int)] if batch.n else np.zeros(0))
+def kinematic_time(batch, feed, dynamics=None) -> np.ndarray:
+    """``machining_time`` (min) per plan: :func:`plan_times` at each plan's programmed feed
+    ``feed`` (n,) mm/min, the one its APT and NC programs carry (``ToolDatabase.feeds``), so
+    it is never below the length over that feed."""
+    return plan_times(batch, dynamics or Dynamics(), feed)
 
 
 def toolpath_time(tp, dyn: Dynamics | None = None) -> float:
