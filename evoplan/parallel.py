@@ -27,7 +27,10 @@ from .process_pool import ProcessPool, _outcome
 
 SCHEDULER_TIMEOUT = 5.0  # seconds to reach a scheduler, and to see its first worker
 POLL = 0.01  # seconds between looks at a wave's futures
+log = logging.getLogger(__name__)
 NO_WORKERS_TIMEOUT = 60.0  # seconds a cluster may have no worker before a study gives up
+SETTLE_TIMEOUT = 10.0  # seconds closing waits for restarted workers to come back
+CLOSE_TRIES = 3  # attempts to close a local cluster a restarting nanny keeps busy
 START_SLACK = 1.0  # seconds a task may take to reach a (restarted) worker, beyond its timeout
 RESUME = "finished work is kept (run the same command again to resume)"
 SCATTER_TRIES = 5  # broadcasts tried while workers are being replaced, before sending to one worker
@@ -242,9 +245,26 @@ class DaskPool:
                 pass
 
     def close(self) -> None:
-        self.client.close()
+        """Close the client and a local cluster. A nanny still starting the worker that replaces
+        a killed or restarted one makes distributed's close fail ("can only join a started
+        process"); the workers are first given ``SETTLE_TIMEOUT`` s to come back, and a close
+        that still fails is tried again, then left to the nannies' own exit: the run's results
+        are written by then and a teardown race must not turn it into a failure."""
         if self.cluster is not None:
-            self.cluster.close()
+            try:
+                self.client.wait_for_workers(self.size, timeout=SETTLE_TIMEOUT)
+            except Exception:  # noqa: BLE001 - a cluster that does not settle is closed anyway
+                pass
+        self.client.close()
+        if self.cluster is None:
+            return
+        for attempt in range(CLOSE_TRIES):
+            try:
+                self.cluster.close()
+                return
+            except Exception as e:  # noqa: BLE001 - see the docstring
+                log.debug("dask: closing the local cluster failed (%s), attempt %d", e, attempt + 1)
+                time.sleep(POLL * 10)
 
 
 POOLS: dict[str, type] = {"serial": SerialPool, "processes": ProcessPool, "dask": DaskPool}

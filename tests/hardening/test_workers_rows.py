@@ -44,3 +44,21 @@ def test_dask_a_dying_and_a_hanging_row_fail_alone():
         assert any("died" in m for m in result.errors), result.errors
     finally:
         pool.close()
+
+
+def test_dask_close_survives_a_nanny_still_starting_a_worker(monkeypatch):
+    """distributed's close fails ("can only join a started process") when a nanny is still
+    starting the worker that replaces a killed one; the pool tries again and does not raise."""
+    pool = open_pool("dask", 1)
+    real, calls = pool.cluster.close, []
+
+    def racing_close(*args, **kwargs):
+        calls.append(1)
+        if len(calls) == 1:
+            raise AssertionError("can only join a started process")
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(pool.cluster, "close", racing_close)
+    pool.close()
+    assert len(calls) == 2
+    assert pool.cluster.status.name == "closed"
