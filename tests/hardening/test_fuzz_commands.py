@@ -12,6 +12,7 @@ from functools import lru_cache
 from pathlib import Path
 
 import numpy as np
+import pytest
 import yaml
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
@@ -203,3 +204,19 @@ def test_part_files_are_read_or_refused_in_one_line(tmp_path_factory, kind, dama
         parse_surface(spec, "surface")
     except (EvoplanError, ValueError) as e:
         one_line(e)
+
+
+@pytest.mark.parametrize("cut", [34145, 126161, 149816])
+def test_a_step_file_that_crashes_occt_is_refused_in_one_line(tmp_path, cut):
+    """Found by the fuzz test above: 64 flipped bytes at these offsets of the sample part end
+    OCCT's STEP reader with SIGSEGV (the whole process, an xdist worker included); the read is
+    probed in a child process and the file refused in one line naming it."""
+    from evoplan.problems.toolpath.geometry.spec import parse_surface
+
+    base = _part("sculpted_block.step")
+    path = tmp_path / "part.step"
+    path.write_bytes(base[:cut] + bytes(b ^ 0x5A for b in base[cut:cut + 64]) + base[cut + 64:])
+    with pytest.raises(ValueError) as e:
+        parse_surface({"type": "step", "file": str(path)}, "surface")
+    one_line(e.value)
+    assert "part.step" in str(e.value) and "crashed" in str(e.value) and "SIGSEGV" in str(e.value)
