@@ -40,8 +40,6 @@ UNITS = {
     "undercut_max": "mm", "cutting_length": "mm", "link_length": "mm", "path_length": "mm",
     "total_length": "mm", "machining_time": "min", "cc_count": "CC points", "n_passes": "passes",
 }
-#: unit of the objective of a problem, by problem name (for study figures)
-OBJECTIVE_UNITS = {"toolpath_zoning": "mm"}
 
 
 def variant_style(i: int) -> dict:

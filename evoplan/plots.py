@@ -8,16 +8,16 @@ import matplotlib.pyplot as plt
 from matplotlib.font_manager import FontProperties
 from matplotlib.ticker import MaxNLocator
 
-from .figure_style import OBJECTIVE_UNITS, PALETTE, figure, label, legend_outside, plain_numbers, png
+from .figure_style import PALETTE, figure, label, legend_outside, plain_numbers, png
 
 
-def convergence_figure(history: pd.DataFrame, title: str, problem: str = ""):
+def convergence_figure(history: pd.DataFrame, title: str):
     """Best-so-far and population mean against evaluations; a top axis of generations.
 
     The top axis is a twin of the evaluation axis with the same limits: the tick of generation
     ``g`` sits at the evaluation count at which generation ``g`` ended (its ``history.csv`` row).
-    The y axis is logarithmic when every plotted value is positive, and carries the
-    objective's unit when the problem's objective has one (``toolpath_zoning``: mm).
+    The y axis is logarithmic when every plotted value is positive. It names no unit: a
+    weighted-sum objective has none.
     """
     fig, (ax,) = figure(1, width=7.0, height=4.2)
     ev = history["evaluations"].to_numpy(dtype=float)
@@ -29,8 +29,7 @@ def convergence_figure(history: pd.DataFrame, title: str, problem: str = ""):
         ax.set_yscale("log")
         plain_numbers(ax, "y")
     ax.set_xlabel("evaluations")
-    unit = OBJECTIVE_UNITS.get(problem)
-    ax.set_ylabel(f"objective, minimized ({unit})" if unit else "objective (minimized)")
+    ax.set_ylabel("objective (minimized)")
     ax.set_title(title)
     legend_outside(ax)
     generation_axis(ax, history)
@@ -77,9 +76,9 @@ def thin_ticks(ax, positions: np.ndarray, labels: list[str], pad_chars: float = 
     return keep
 
 
-def convergence_png(history: pd.DataFrame, title: str, problem: str = "") -> bytes:
+def convergence_png(history: pd.DataFrame, title: str) -> bytes:
     """:func:`convergence_figure` as PNG bytes."""
-    return png(convergence_figure(history, title, problem))
+    return png(convergence_figure(history, title))
 
 
 def pareto_png(front: pd.DataFrame, names: list[str], weights: dict[str, float], title: str) -> bytes:

@@ -308,7 +308,7 @@ def write_results(prepared: Prepared, state: RunState, out: Path, extra: dict | 
         from .plots import convergence_png  # matplotlib loads only when a figure is drawn
 
         title = f"{prepared.config.name}: {prepared.config.algorithm.name} on {prepared.config.problem.name}"
-        write_atomic(out / "convergence.png", convergence_png(history, title, prepared.config.problem.name))
+        write_atomic(out / "convergence.png", convergence_png(history, title))
     write_artifacts(prepared, state, out)
     write_front(prepared, state.algorithm, out)
     write_atomic(out / "best.json", (json.dumps(record, indent=2) + "\n").encode())

@@ -21,7 +21,7 @@ import numpy as np
 import pandas as pd
 from matplotlib.ticker import NullFormatter
 
-from ..figure_style import OBJECTIVE_UNITS, boxes, figure, figure_legend, mark_floor, plain_numbers, png, variant_style
+from ..figure_style import boxes, figure, figure_legend, mark_floor, png, variant_style
 from .curves import DEFAULT_TARGETS, band, best_on_grid, ecdf, evaluation_grid, runtimes
 from .measure import HV_MAX
 
@@ -48,11 +48,6 @@ def variant_styles(runs: pd.DataFrame) -> dict[str, dict]:
     and every figure of a study (the critical-difference diagram takes its colours)."""
     names = dict.fromkeys(_variant(a, f, lv) for a, f, lv in zip(runs["algorithm"], runs["factor"], runs["level"]))
     return {name: variant_style(i) for i, name in enumerate(names)}
-
-
-def _ylabel(text: str, problem: str) -> str:
-    unit = OBJECTIVE_UNITS.get(problem)
-    return f"{text} ({unit})" if unit else text
 
 
 def _floor_note(clamped: int) -> str:
@@ -130,11 +125,9 @@ def convergence(runs: pd.DataFrame, history: History, f_opt: pd.Series) -> bytes
         mark_floor(ax, FLOOR, clamped)
         clamped_all += clamped
         ax.set(xscale="log", xlabel="evaluations",
-               ylabel=_ylabel(_what("best so far", ref, f_opt), problem), title=_title(problem, dim, factor))
+               ylabel=_what("best so far", ref, f_opt), title=_title(problem, dim, factor))
         _yscale(ax)
         ax.xaxis.set_minor_formatter(NullFormatter())
-        if problem in OBJECTIVE_UNITS:
-            plain_numbers(ax, "y")
     return _png(fig, BANDS + _floor_note(clamped_all))
 
 
@@ -153,11 +146,9 @@ def final_boxes(runs: pd.DataFrame, f_opt: pd.Series) -> bytes:
             data.append(_shown(values, ref))
             names.append(level if factor else algorithm)
         boxes(ax, data, names)
-        ax.set(ylabel=_ylabel(_what("final", ref, f_opt), problem), title=_title(problem, dim, factor))
+        ax.set(ylabel=_what("final", ref, f_opt), title=_title(problem, dim, factor))
         _yscale(ax)
         ax.tick_params(axis="x", labelrotation=45, labelsize=7)
-        if problem in OBJECTIVE_UNITS:
-            plain_numbers(ax, "y")
     note = ("Boxes: quartiles and median; whiskers: 1.5 x IQR; dots: every run when a box holds "
             "30 or fewer." + _floor_note(clamped_all))
     return _png(fig, note)
@@ -218,7 +209,7 @@ def factor_effects(runs: pd.DataFrame, f_opt: pd.Series) -> bytes:
         boxes(ax, data, levels)
         med = [np.median(d) if len(d) else np.nan for d in data]
         ax.plot(range(1, len(levels) + 1), med, lw=1.5, label="median", **variant_style(0))
-        ax.set(xlabel=factor, ylabel=_ylabel(_what("final", ref, f_opt), problem), title=_title(problem, dim, factor))
+        ax.set(xlabel=factor, ylabel=_what("final", ref, f_opt), title=_title(problem, dim, factor))
         _yscale(ax)
     return _png(fig, "Boxes: quartiles of the final values at each level; line: their medians; "
                      "dots: every run when a box holds 30 or fewer.")
@@ -241,7 +232,7 @@ def factor_generations(runs: pd.DataFrame, history: History, f_opt: pd.Series) -
             style = variant_style(i)
             ax.plot(np.arange(n), med, lw=1.6, label=f"{factor}={level}", markevery=max(1, n // 8), ms=4, **style)
             ax.fill_between(np.arange(n), q1, q3, color=style["color"], alpha=0.12, lw=0)
-        ax.set(xlabel="generation", ylabel=_ylabel(_what("best so far", ref, f_opt), problem),
+        ax.set(xlabel="generation", ylabel=_what("best so far", ref, f_opt),
                title=_title(problem, dim, factor))
         _yscale(ax)
     return _png(fig, BANDS)

@@ -55,11 +55,11 @@ def test_floor_and_small_boxes_are_shown():
 
 def test_generations_that_cost_no_evaluation_share_one_tick():
     history = _history([8, 6, 0, 0, 1, 2, 1])  # generations 2-3 answered by the cache
-    fig = convergence_figure(history, "t", "toolpath_zoning")
+    fig = convergence_figure(history, "t")
     ax, top = fig.axes
     ticks, labels = top.get_xticks(), [t.get_text() for t in top.get_xticklabels()]
     assert len(set(ticks)) == len(ticks) and "3" in labels and "1" not in labels and "2" not in labels
-    assert ax.get_ylabel() == "objective, minimized (mm)"
+    assert ax.get_ylabel() == "objective (minimized)"
     plt.close(fig)
 
 
