@@ -27,13 +27,13 @@ from .process_pool import ProcessPool, _outcome
 
 SCHEDULER_TIMEOUT = 5.0  # seconds to reach a scheduler, and to see its first worker
 POLL = 0.01  # seconds between looks at a wave's futures
-log = logging.getLogger(__name__)
 NO_WORKERS_TIMEOUT = 60.0  # seconds a cluster may have no worker before a study gives up
 SETTLE_TIMEOUT = 10.0  # seconds closing waits for restarted workers to come back
 CLOSE_TRIES = 3  # attempts to close a local cluster a restarting nanny keeps busy
 START_SLACK = 1.0  # seconds a task may take to reach a (restarted) worker, beyond its timeout
 RESUME = "finished work is kept (run the same command again to resume)"
 SCATTER_TRIES = 5  # broadcasts tried while workers are being replaced, before sending to one worker
+log = logging.getLogger(__name__)
 
 
 class _Done:

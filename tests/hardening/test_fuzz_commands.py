@@ -179,6 +179,11 @@ def _part(name: str) -> bytes:
     return (PARTS / name).read_bytes()
 
 
+def _flipped(data: bytes, at: int) -> bytes:
+    """``data`` with its 64 bytes from ``at`` on XOR-ed with 0x5A."""
+    return data[:at] + bytes(b ^ 0x5A for b in data[at:at + 64]) + data[at + 64:]
+
+
 @FAST
 @given(st.sampled_from([("mesh", "stl", "wavy_mesh.stl"), ("mesh", "obj", None), ("mesh", "ply", None),
                         ("step", "step", "sculpted_block.step"), ("iges", "iges", None)]),
@@ -193,7 +198,7 @@ def test_part_files_are_read_or_refused_in_one_line(tmp_path_factory, kind, dama
     base = _part(sample) if sample else b"solid x\nendsolid x\n"
     cut = int(where * len(base))
     data = {"noise": noise, "truncated": base[:cut],
-            "flipped": base[:cut] + bytes(b ^ 0x5A for b in base[cut:cut + 64]) + base[cut + 64:],
+            "flipped": _flipped(base, cut),
             "text": noise.decode("latin-1").encode()}[damage]
     path = tmp_path_factory.mktemp("part") / f"part.{suffix}"
     path.write_bytes(data)
@@ -213,9 +218,8 @@ def test_a_step_file_that_crashes_occt_is_refused_in_one_line(tmp_path, cut):
     probed in a child process and the file refused in one line naming it."""
     from evoplan.problems.toolpath.geometry.spec import parse_surface
 
-    base = _part("sculpted_block.step")
     path = tmp_path / "part.step"
-    path.write_bytes(base[:cut] + bytes(b ^ 0x5A for b in base[cut:cut + 64]) + base[cut + 64:])
+    path.write_bytes(_flipped(_part("sculpted_block.step"), cut))
     with pytest.raises(ValueError) as e:
         parse_surface({"type": "step", "file": str(path)}, "surface")
     one_line(e.value)
