@@ -107,9 +107,15 @@ _short.maxstring = _short.maxother = 60
 _short.maxlevel, _short.maxlist, _short.maxdict = 2, 4, 4
 
 
+ECHO_MAX = 100  # characters of an input an error line may echo
+
+
 def short(value: Any) -> str:
-    """``repr(value)`` cut to a few dozen characters (an input is never echoed at length)."""
-    return _short.repr(value)
+    """``repr(value)`` cut to at most ``ECHO_MAX`` characters (an input is never echoed at
+    length): ``reprlib`` bounds each string and container, and the total is cut too, since a
+    list of mappings of long strings stays long in ``reprlib``'s bounds."""
+    text = _short.repr(value)
+    return text if len(text) <= ECHO_MAX else text[:ECHO_MAX - 3] + "..."
 
 
 def key_text(key: Any) -> str:

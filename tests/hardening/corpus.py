@@ -157,6 +157,10 @@ SPECIFIC = [
     ("machine", "stock.cell 1e-5", MACHINE.replace("{cell: 1.0}", "{cell: 1.0e-5}"), []),
     # found by the fuzzer: cell counts past what a float holds (an int overflow, a traceback)
     ("machine", "stock.cell 1e-300", MACHINE.replace("{cell: 1.0}", "{cell: 1.0e-300}"), []),
+    # found by the fuzzer: a list of mappings of long strings echoed whole (a 602-character line)
+    ("machine", "finish a list of long mappings", MACHINE.replace(
+        "finish: {params: {tool: 8, stepover: 40, lead: 2, tilt: 0, step: 8}}",
+        "finish: [" + ", ".join(["{" + ", ".join(f"k{i}{'x' * 50}: {'v' * 60}" for i in range(4)) + "}"] * 3) + "]"), []),
     ("machine", "roughing tool diameter 5000", MACHINE.replace("tool: {diameter: 8}", "tool: {diameter: 5000}"), []),
     ("machine", "semifinish.step 1e-6", MACHINE.replace("stepover: 4, step: 3", "stepover: 4, step: 1.0e-6"), []),
     ("simulate", "grid 1e-300", SIMULATE, [*SIM_SETS, "--grid", "1e-300"]),
