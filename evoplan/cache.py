@@ -18,17 +18,17 @@ cache (the run's numbers are then identical to a run without cache, only faster)
 Failed evaluations (``inf``) are not stored: a crash may be transient, so it is retried.
 
 **Vectorized.** A genotype is packed into one fixed-width key (up to 48 bits: an exact
-``float64`` code, one matrix product a batch; up to 64 bits: one ``uint64``; wider: one
-``np.void`` of its bytes). A batch is looked up with one C-level pass of a dictionary over
-the keys as Python ints or bytes (``map(dict.get)``), repeats inside it found by one stable
-``argsort``, and stored with one ``dict.update``: no Python loop per row. Profile
-(pyinstrument, Kubota, pop 2000 x 40): the former per-row ``tobytes`` + dictionary took 1.13
-of 1.42 s, this pass 0.23 of 0.51 s (about 0.3-0.5 us a row). A numpy open-addressing table
-probed for the whole batch at once was measured against it and lost at 200-row batches
-(0.5-0.7x) for no gain at 2000 (1.05x): the dictionary stays.
+integer code; up to 64 bits: one ``uint64``; wider: one ``np.void`` of its bytes). Keys of up
+to 64 bits live in a compiled open-addressing table (:mod:`evoplan.key_index`): a batch of
+boolean genotypes is coded, looked up and its repeats found in one compiled pass, and stored
+in another; no Python object per row. Wider keys use a dictionary of ``bytes``, one C-level
+pass a batch. Profile (pyinstrument, Kubota, GA pop 2000 x 40, ten runs): with a dictionary of
+Python ints the cache held 1.8 of 3.75 s (``map(dict.get)`` 0.61 s, ``dict.update`` 0.46 s);
+with the compiled table 0.15 of 1.18 s (look-up 0.10, store 0.045). ``runs/bench/floor.py``
+times it against a plain numpy GA.
 
 **State as plain data.** The cache is a few numpy arrays (packed genotypes as byte rows,
-values) and integers (:meth:`to_data` / :meth:`from_data`); the dictionary is rebuilt from
+values) and integers (:meth:`to_data` / :meth:`from_data`); the index is rebuilt from
 them, so a checkpoint stores data only.
 """
 
@@ -64,31 +64,21 @@ def pack(G: np.ndarray) -> np.ndarray:
     return np.ascontiguousarray(G.astype(np.float64)).view(np.uint8).reshape(len(G), -1)
 
 
-CODE_BYTES = 6  # genotypes of up to 48 bits are keyed by an exact float64 code
-STRIDE = 29  # coprime with every 8 * CODE_BYTES or less: locus i weighs 2 ** (29 i mod P)
+CODE_BYTES = 6  # genotypes of up to 48 bits are keyed by an exact integer code
 
 
 def key_dtype(width: int) -> np.dtype:
-    """The dtype of the key of a ``width``-byte packed genotype: a ``float64`` code up to
+    """The dtype of the key of a ``width``-byte packed genotype: an ``int64`` code up to
     :data:`CODE_BYTES`, one ``uint64`` up to 8 bytes, else the bytes (``V<width>``)."""
     if width <= CODE_BYTES:
-        return np.dtype(np.float64)
+        return np.dtype(np.int64)
     return np.dtype(np.uint64) if width <= 8 else np.dtype(f"V{width}")
 
 
-def code_exponents(width: int) -> np.ndarray:
-    """The power of two each of the ``8 * width`` loci weighs in its genotype's float code: a
-    fixed permutation of ``0 .. 8 width - 1``, so the code's low bits (which a Python dict
-    hashes by) come from loci spread over the whole genotype, not from its last ones."""
-    bits = 8 * width
-    return (np.arange(bits) * STRIDE) % bits
-
-
 def genotype_codes(G: np.ndarray) -> np.ndarray:
-    """Exact ``float64`` codes ``G @ 2 ** exponents`` of boolean genotypes of at most 48 bits
-    (distinct genotypes, distinct integers below ``2 ** 48``): one matrix product a batch."""
-    width = -(-G.shape[1] // 8)
-    return G @ np.ldexp(1.0, code_exponents(width)[: G.shape[1]])
+    """Exact ``int64`` codes ``sum_j G[:, j] 2 ** j`` of boolean genotypes of at most 48 bits
+    (distinct genotypes, distinct integers below ``2 ** 48``)."""
+    return (G @ np.ldexp(1.0, np.arange(G.shape[1]))).astype(np.int64)
 
 
 def to_keys(rows: np.ndarray) -> np.ndarray:
@@ -108,47 +98,67 @@ def to_rows(keys: np.ndarray, width: int) -> np.ndarray:
     if keys.size == 0:
         return np.zeros((0, width), dtype=np.uint8)
     if width <= CODE_BYTES:
-        shifts = code_exponents(width).astype(np.uint64)
+        shifts = np.arange(8 * width, dtype=np.uint64)
         bits = (keys.astype(np.uint64)[:, None] >> shifts) & np.uint64(1)
         return np.packbits(bits.astype(bool), axis=1)
     rows = np.ascontiguousarray(keys).view(np.uint8).reshape(len(keys), -1)
     return rows[:, :width].copy()
 
 
-def spread(keys: np.ndarray) -> np.ndarray:
-    """Hashable dictionary keys of packed keys: ``uint64`` keys are mixed by the (bijective)
-    splitmix64 finalizer first, so that genotypes differing only in their last bits do not
-    share their low bits (Python hashes an int by its value); float codes, spread by
-    construction (:func:`code_exponents`), become ints; wider keys are bytes."""
-    if keys.dtype == np.float64:
-        return keys.astype(np.int64)  # exact; a dict hashes ints faster than floats
-    if keys.dtype != np.uint64:
+def index_keys(keys: np.ndarray):
+    """What the index is keyed by: ``int64`` for keys of at most 8 bytes (a code as it is, a
+    ``uint64`` reinterpreted), else the keys' bytes as a Python list."""
+    if keys.dtype == np.int64:
         return keys
-    x = keys ^ (keys >> np.uint64(30))
-    x *= np.uint64(0xBF58476D1CE4E5B9)
-    x ^= x >> np.uint64(27)
-    x *= np.uint64(0x94D049BB133111EB)
-    x ^= x >> np.uint64(31)
-    return x
+    if keys.dtype == np.uint64:
+        return keys.view(np.int64)
+    return keys.tolist()
 
 
-def first_occurrence(keys: np.ndarray) -> np.ndarray:
-    """For each key, the index of its first occurrence in ``keys``: one stable ``argsort``, the
-    runs of equal keys marked and each run's first index given to all its members; below 64
-    keys, where the sort's fixed cost dominates, one dict pass."""
+def first_occurrence(keys: list) -> np.ndarray:
+    """For each (hashable) key, the index of its first occurrence in ``keys``: one dict pass."""
     n = len(keys)
-    if n < 64:
-        listed = keys.tolist()
-        seen = dict(zip(reversed(listed), range(n - 1, -1, -1)))  # the earliest index is written last
-        return np.fromiter(map(seen.__getitem__, listed), dtype=np.intp, count=n)
-    order = np.argsort(keys, kind="stable")  # equal keys keep batch order: a run starts at its first
-    ordered = keys[order]
-    starts = np.empty(n, dtype=bool)
-    starts[:1] = True
-    starts[1:] = ordered[1:] != ordered[:-1]
-    first = np.empty(n, dtype=np.intp)
-    first[order] = order[starts][np.cumsum(starts) - 1]
-    return first
+    seen = dict(zip(reversed(keys), range(n - 1, -1, -1)))  # the earliest index is written last
+    return np.fromiter(map(seen.__getitem__, keys), dtype=np.intp, count=n)
+
+
+class BytesIndex:
+    """Key -> slot for keys wider than 8 bytes (``bytes``): a dictionary, one C-level pass per
+    batch; the interface of :class:`evoplan.key_index.KeyIndex`."""
+
+    def __init__(self) -> None:
+        self._dict: dict = {}
+
+    def __len__(self) -> int:
+        return len(self._dict)
+
+    def get(self, keys: list) -> np.ndarray:
+        return np.fromiter(map(self._dict.get, keys, repeat(-1)), dtype=np.intp, count=len(keys))
+
+    def lookup(self, keys: list) -> tuple[np.ndarray, np.ndarray]:
+        n = len(keys)
+        slot = self.get(keys) if self._dict else np.full(n, -1)
+        first = np.arange(n)
+        miss = np.flatnonzero(slot < 0)
+        if miss.size > 1:
+            first[miss] = miss[first_occurrence([keys[i] for i in miss])]
+        return slot, first
+
+    def update(self, keys: list, slots: np.ndarray) -> None:
+        self._dict.update(zip(keys, slots.tolist()))
+
+    def remove(self, keys: list) -> None:
+        deque(map(self._dict.pop, keys), maxlen=0)
+
+
+def new_index(width: int, expected: int = 0):
+    """The index for keys of ``width`` bytes (``expected`` of them, likely): compiled for up to
+    8 bytes, else a dictionary."""
+    if width <= 8:
+        from .key_index import KeyIndex  # numba: imported only when a run has a cache
+
+        return KeyIndex(expected)
+    return BytesIndex()
 
 
 class EvaluationCache:
@@ -164,7 +174,8 @@ class EvaluationCache:
         self.next = 0  # slot the next entry goes to (once the table is full: the oldest entry)
         self.hits = 0
         self.misses = 0
-        self._index: dict = {}  # key (int or bytes) -> slot
+        self._index = BytesIndex()  # key -> slot (replaced by the first batch's :func:`new_index`)
+        self._exponents = np.zeros(0, dtype=np.int64)  # locus j of a coded genotype weighs 2 ** j
 
     @classmethod
     def from_config(cls, config: CacheConfig) -> "EvaluationCache":
@@ -182,10 +193,6 @@ class EvaluationCache:
         """The packed genotypes of the slots in use, ``(len, width) uint8``."""
         return to_rows(self.codes[: len(self._index)], self.width)
 
-    def _slots(self, keys: list) -> np.ndarray:
-        """The slot of each key, -1 where it is not stored (one pass over the batch, in C)."""
-        return np.fromiter(map(self._index.get, keys, repeat(-1)), dtype=np.intp, count=len(keys))
-
     def lookup(self, G: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """``(keys, f, first)`` for a batch ``G``.
 
@@ -194,26 +201,21 @@ class EvaluationCache:
         with the same genotype (a row repeated inside one batch is evaluated once; a known
         row is its own first). Rows to evaluate: ``isnan(f) & (first == arange(n))``.
         """
-        if G.dtype == bool and G.ndim == 2 and 0 < G.shape[1] <= 8 * CODE_BYTES:
-            width, keys = -(-G.shape[1] // 8), genotype_codes(G)
-        else:
-            rows = pack(G)
-            width, keys = rows.shape[1], to_keys(rows)
+        coded = G.dtype == bool and G.ndim == 2 and 0 < G.shape[1] <= 8 * CODE_BYTES
         if not self.width:
-            self.width = width
-            self.codes = np.zeros(0, dtype=key_dtype(width))
-        mixed = spread(keys)
-        listed = mixed.tolist()
-        n = len(listed)
-        f = np.full(n, np.nan)
-        first = np.arange(n)
-        slot = self._slots(listed) if self._index else np.full(n, -1)
-        miss = np.flatnonzero(slot < 0)
-        if miss.size < n:
-            known = slot >= 0
-            f[known] = self.values[slot[known]]
-        if miss.size > 1:
-            first[miss] = miss[first_occurrence(mixed[miss])]
+            self.width = -(-G.shape[1] // 8) if coded else pack(G[:1]).shape[1]
+            self.codes = np.zeros(0, dtype=key_dtype(self.width))
+            self._index = new_index(self.width, self.size)
+        if coded:  # codes computed and looked up in one compiled pass
+            if self._exponents.size != G.shape[1]:
+                self._exponents = np.arange(G.shape[1])
+            keys, slot, first = self._index.lookup_rows(np.ascontiguousarray(G), self._exponents)
+        else:
+            keys = to_keys(pack(G))
+            slot, first = self._index.lookup(index_keys(keys))
+        f = np.full(len(keys), np.nan)
+        known = slot >= 0
+        f[known] = self.values[slot[known]]
         return keys, f, first
 
     def store(self, keys: np.ndarray, f: np.ndarray, fresh: bool = False) -> None:
@@ -226,19 +228,15 @@ class EvaluationCache:
         if self.size == 0 or keys.size == 0:
             return
         f = np.asarray(f, dtype=float)
-        mixed = spread(keys)
-        listed = mixed.tolist()
         keep = np.isfinite(f)
         if not fresh:
-            keep &= first_occurrence(mixed) == np.arange(keys.size)
-            if self._index:
-                keep &= self._slots(listed) < 0
+            slot, first = self._index.lookup(index_keys(keys))
+            keep &= (first == np.arange(keys.size)) & (slot < 0)
         if not keep.all():
             keys, f = keys[keep], f[keep]
-            listed = spread(keys).tolist()
         if keys.size > self.size:  # only the last `size` survive the batch
             self.next = (self.next + keys.size - self.size) % self.size
-            keys, f, listed = keys[-self.size:], f[-self.size:], listed[-self.size:]
+            keys, f = keys[-self.size:], f[-self.size:]
         m = keys.size
         if m == 0:
             return
@@ -247,9 +245,9 @@ class EvaluationCache:
         self._reserve(min(self.size, filled + m))
         old = slots[slots < filled]  # occupied slots: their entries are dropped
         if old.size:
-            deque(map(self._index.pop, spread(self.codes[old]).tolist()), maxlen=0)
+            self._index.remove(index_keys(self.codes[old]))
         self.codes[slots], self.values[slots] = keys, f
-        self._index.update(zip(listed, slots.tolist()))
+        self._index.update(index_keys(keys), slots)
         self.next = int((self.next + m) % self.size)
 
     def _reserve(self, n: int) -> None:
@@ -280,7 +278,8 @@ class EvaluationCache:
             rows = rows.reshape(values.size, -1)
             cache.width = rows.shape[1]
             cache.codes, cache.values = to_keys(rows), values.copy()
-            cache._index = dict(zip(spread(cache.codes).tolist(), range(values.size)))
+            cache._index = new_index(cache.width, cache.size)
+            cache._index.update(index_keys(cache.codes), np.arange(values.size))
         return cache
 
     def __getstate__(self) -> dict[str, Any]:

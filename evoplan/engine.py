@@ -239,23 +239,25 @@ def settle(state: RunState, pending: Pending, result: Evaluation | None) -> np.n
             cache.store(keys[todo], result.f, fresh=True)
     repeat = np.isnan(f)  # a row repeated inside the batch takes its first occurrence's value
     f[repeat] = f[first[repeat]]
-    charged = np.zeros(n, dtype=np.int64)  # what each row costs the budget
-    charged[todo] = 1 if result is None or result.cost is None else result.cost
     hits = n - todo.size
+    charge_hits = cache is not None and cache.charge_hits
     if cache is not None:
         cache.hits += hits
         cache.misses += todo.size
         state.cache_hits += hits
-        if cache.charge_hits:
-            charged[:] = 1
+    costed = not charge_hits and result is not None and result.cost is not None
+    total = n if charge_hits else (int(result.cost.astype(np.int64).sum()) if costed else todo.size)
     if n and f.min() < state.best_f:  # improvements (rare): the evaluation number of each
+        charged = np.ones(n, dtype=np.int64) if charge_hits else np.zeros(n, dtype=np.int64)
+        if not charge_hits:  # what each row costs the budget
+            charged[todo] = result.cost if costed else 1
         index = state.evaluations + np.cumsum(charged)
         previous = np.minimum.accumulate(np.concatenate([[state.best_f], f]))[:-1]
         for i in np.flatnonzero(f < previous):
             state.improvements.append((int(index[i]), float(f[i])))
         i = int(np.argmin(f))
         state.best_f, state.best_g = float(f[i]), G[i].copy()
-    state.evaluations += int(charged.sum())
+    state.evaluations += total
     return f
 
 

@@ -136,8 +136,11 @@ class Evaluator:
         """The objective values of ``X`` (penalized), and for a constrained problem the values
         before the penalty and pymoo's ``CV`` (else None, None). A problem that sets
         ``out["cost"]`` (n,) leaves it in ``self.cost`` (else None)."""
-        with time_limit(None if self.timeout is None else self.timeout * len(X)):
+        if self.timeout is None:  # (no timer to arm: skip the context manager's cost)
             out = self.problem.evaluate(X, return_as_dictionary=True)
+        else:
+            with time_limit(self.timeout * len(X)):
+                out = self.problem.evaluate(X, return_as_dictionary=True)
         cost = out.get("cost")
         self.cost = None if cost is None else np.asarray(cost, dtype=float).reshape(len(X))
         f = np.asarray(out["F"], dtype=float).reshape(len(X), -1)[:, 0]

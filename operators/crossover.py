@@ -6,6 +6,12 @@ import numpy as np
 
 
 def _swap(A: np.ndarray, B: np.ndarray, mask: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The children: ``A`` with ``B``'s bits where ``mask``, and ``B`` with ``A``'s. Booleans
+    swap through the bits that differ, ``D = (A ^ B) & mask``: the same children, bit for bit,
+    several times faster than ``np.where`` on booleans."""
+    if A.dtype == bool and B.dtype == bool:
+        D = (A ^ B) & mask
+        return A ^ D, B ^ D
     return np.where(mask, B, A), np.where(mask, A, B)
 
 

@@ -21,10 +21,17 @@ from __future__ import annotations
 import numpy as np
 
 
-def normalize(f: np.ndarray, method: str = "rank") -> np.ndarray:
-    """Objective values ``f: (n,)`` (minimized) to ``[0, 1]``, 0 for the best; non-finite -> 1."""
+def normalize(f: np.ndarray, method: str = "rank", order: np.ndarray | None = None) -> np.ndarray:
+    """Objective values ``f: (n,)`` (minimized) to ``[0, 1]``, 0 for the best; non-finite -> 1.
+
+    ``order``: ``np.argsort(f, kind="stable")`` when the caller has it and every value is
+    finite (the rank method then sorts no more)."""
     f = np.asarray(f, dtype=float)
     n = f.size
+    if order is not None and method == "rank" and n > 1:
+        ranks = np.empty(n)
+        ranks[order] = np.arange(n)
+        return ranks / (n - 1)
     finite = np.isfinite(f)
     all_finite = bool(finite.all())
     if n <= 1 or not finite.any():
@@ -40,8 +47,12 @@ def normalize(f: np.ndarray, method: str = "rank") -> np.ndarray:
     raise ValueError(f"unknown normalization {method!r} (rank, minmax)")
 
 
-def exponential_fitness(f: np.ndarray, method: str = "rank", pressure: float = 1.0) -> np.ndarray:
-    """Fountas Eq. 10 on normalized objective values: ``(n,) -> (n,)`` positive, larger is fitter."""
-    v = normalize(f, method) * pressure
-    fitsum = float(np.abs(f[np.isfinite(f)]).sum())
+def exponential_fitness(
+    f: np.ndarray, method: str = "rank", pressure: float = 1.0, order: np.ndarray | None = None
+) -> np.ndarray:
+    """Fountas Eq. 10 on normalized objective values: ``(n,) -> (n,)`` positive, larger is fitter.
+
+    ``order``: as for :func:`normalize` (every value finite, sorted stably)."""
+    v = normalize(f, method, order) * pressure
+    fitsum = float(np.abs(f).sum() if order is not None else np.abs(f[np.isfinite(f)]).sum())
     return (fitsum if fitsum > 0 else 1.0) * np.exp(-(v * v))

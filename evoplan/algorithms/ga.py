@@ -81,9 +81,9 @@ class GA(Algorithm):
         self._pending_elite = np.empty(0, dtype=np.intp)
 
     # -- one generation of host evolution, as named steps ------------------------------------
-    def scaled_fitness(self, f: np.ndarray) -> np.ndarray:
+    def scaled_fitness(self, f: np.ndarray, order: np.ndarray | None = None) -> np.ndarray:
         c = self.config.fitness
-        return fitness.exponential_fitness(f, c.normalize, c.pressure)
+        return fitness.exponential_fitness(f, c.normalize, c.pressure, order)
 
     def select(self, fit: np.ndarray, n: int) -> np.ndarray:
         c = self.config.selection
@@ -91,12 +91,13 @@ class GA(Algorithm):
             return selection.tournament(fit, n, self.rng, c.size)
         return selection.roulette(fit, n, self.rng)
 
-    def offspring(self) -> np.ndarray:
-        """Mating pool -> crossover -> mutation: ``population - elitism`` children."""
+    def offspring(self, order: np.ndarray | None = None) -> np.ndarray:
+        """Mating pool -> crossover -> mutation: ``population - elitism`` children (``order``:
+        the population's stable sort when every value is finite)."""
         cfg = self.config
         n_children = cfg.population - cfg.elitism
         n_pairs = (n_children + 1) // 2
-        parents = self.select(self.scaled_fitness(self.f), 2 * n_pairs)
+        parents = self.select(self.scaled_fitness(self.f, order), 2 * n_pairs)
         a, b = CROSSOVERS[cfg.crossover.kind](
             self.G[parents[:n_pairs]], self.G[parents[n_pairs:]], cfg.crossover.rate, self.rng
         )
@@ -108,8 +109,11 @@ class GA(Algorithm):
         if self.generation < 0:
             self._batch = self.rng.random((self.config.population, self.n_bits)) < 0.5
         else:
-            self._pending_elite = elitism.elite_indices(self.f, self.config.elitism)
-            self._batch = self.offspring()
+            f = self.f  # one stable sort gives the elite and the ranks (every value finite)
+            order = np.argsort(f, kind="stable") if np.isfinite(f).all() else None
+            k = self.config.elitism
+            self._pending_elite = order[:k] if order is not None else elitism.elite_indices(f, k)
+            self._batch = self.offspring(order)
         return self._batch
 
     def tell(self, f: np.ndarray) -> bool:

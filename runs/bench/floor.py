@@ -49,8 +49,9 @@ def floor_ga(pop: int, gens: int, seed: int) -> float:
     pos = np.arange(L)
     ranks = np.empty(pop)
     for _ in range(gens):
-        elite = np.argsort(f, kind="stable")[:1]
-        ranks[np.argsort(f, kind="stable")] = np.arange(pop)
+        order = np.argsort(f, kind="stable")
+        elite = order[:1]
+        ranks[order] = np.arange(pop)
         v = ranks / (pop - 1) * 2.0
         cum = np.cumsum(np.abs(f).sum() * np.exp(-(v * v)))
         parents = np.minimum(np.searchsorted(cum, rng.random(2 * n_pairs) * cum[-1], side="right"), pop - 1)
@@ -58,7 +59,8 @@ def floor_ga(pop: int, gens: int, seed: int) -> float:
         cut = rng.integers(1, L, n_pairs)
         cross = rng.random(n_pairs) < 0.9
         mask = (pos >= cut[:, None]) & cross[:, None]
-        children = np.concatenate([np.where(mask, B, A), np.where(mask, A, B)])[:n_child]
+        D = (A ^ B) & mask  # the bits the pair swaps (as fast as numpy swaps booleans)
+        children = np.concatenate([A ^ D, B ^ D])[:n_child]
         hit = np.flatnonzero(rng.random(n_child) < 0.5)
         loci = rng.integers(0, L, n_child)[hit]
         children[hit, loci] ^= True
