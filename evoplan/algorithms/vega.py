@@ -15,7 +15,7 @@ setting of ``virus``:
    carries the host's own bits leaves the host unchanged: its gain is 0 without evaluating
    it, and it is not asked for (:meth:`begin_infection`). The others are evaluated in one
    batch and count in the budget.
-3. **Replacement** (:meth:`replace_hosts`, a choice the papers leave open): each infected host
+3. **Replacement** (:meth:`end_infection`, a choice the papers leave open): each infected host
    takes its best infected version, either only if it is better (``replacement: improve``,
    the default: elitist, no host is made worse) or always (``always``, Kubota's vertical
    transmission of harmful viruses as well).
@@ -56,6 +56,7 @@ import numpy as np
 from pydantic import Field, model_validator
 
 from ..operators import viral
+from ..operators.viral_outcome import infect_pairs, infection_outcome
 from .ga import GA, GAConfig, _Strict
 
 
@@ -167,37 +168,19 @@ class VEGA(GA):
         hit = self.rng.random((self.vc.count, self.f.size)) < self.rate[:, None]
         return np.nonzero(hit)
 
-    # -- rule 3: replacement ---------------------------------------------------------------------
-    def replace_hosts(self, trial: np.ndarray, F: np.ndarray, trials: np.ndarray) -> None:
-        """Each infected host takes its best infected version (if better, under ``improve``).
-
-        ``trial: (V, N)`` index of the infection of host ``j`` by virus ``i`` in the batch (-1:
-        none), ``F: (V, N)`` its objective value (``inf`` where none), ``trials: (P, L)``.
-        """
-        N = self.f.size
-        best_virus = F.argmin(axis=0)
-        best = trial[best_virus, np.arange(N)]
-        best_f = F[best_virus, np.arange(N)]
-        take = (best >= 0) & np.isfinite(best_f)  # a failed infection never replaces a host
-        if self.vc.replacement == "improve":
-            take &= best_f < self.f
-        self.G[take] = trials[best[take]]
-        self.f[take] = best_f[take]
-
     # -- rules 4-6: virus bookkeeping ------------------------------------------------------------
-    def update_viruses(self, fitvirus: np.ndarray, trial: np.ndarray, gain: np.ndarray,
+    def update_viruses(self, fitvirus: np.ndarray, infected: np.ndarray, best_pair: np.ndarray,
                        trials: np.ndarray) -> None:
         """Life force, infection-rate adaptation, then renew or extend viruses.
 
-        ``fitvirus: (V,)`` Eq. 12; ``trial: (V, N)`` as in :meth:`replace_hosts`; ``gain: (V, N)``
-        the Eq. 11 gain of each infection (0 where none).
+        ``fitvirus: (V,)`` Eq. 12; ``infected: (V,)`` whether each virus infected a host;
+        ``best_pair: (V,)`` the row of ``trials`` (the infected hosts) each virus improved most.
         """
         old_life = self.life
         self.life = viral.update_life(old_life, fitvirus, self.vc.infectivity_force)
         self.rate = viral.adapt_infection_rate(
             self.rate, fitvirus, self.vc.rate_step, self.vc.min_infection_rate, self.vc.max_infection_rate
         )
-        infected = (trial >= 0).any(axis=1)
         if self.vc.life_rule == "kubota":
             renew = self.life < 0
             grow = ~renew & infected
@@ -206,11 +189,9 @@ class VEGA(GA):
             grow = (self.life > old_life) & infected  # life rose: a gain this generation
         if grow.any():
             # the infected host (its infected version) each growing virus improved most
-            best_host = np.where(trial >= 0, gain, -np.inf).argmax(axis=1)
             idx = np.flatnonzero(grow)
-            source = trial[idx, best_host[idx]]
             s, n, b = viral.partial_transduction(
-                self.start[idx], self.length[idx], self.bits[idx], trials[source],
+                self.start[idx], self.length[idx], self.bits[idx], trials[best_pair[idx]],
                 self.vc.max_length, self.rng, self.vc.growth,
             )
             self.start[idx], self.length[idx], self.bits[idx] = s, n, b
@@ -225,8 +206,7 @@ class VEGA(GA):
         value is the host's and its gain 0. With none left, the generation ends here.
         """
         self._pairs = (virus, host)
-        self._trials = viral.infect(self.G, host, virus, self.start, self.length, self.bits)
-        self._changed = (self._trials != self.G[host]).any(axis=1)
+        self._trials, self._changed = infect_pairs(self.G, host, virus, self.start, self.length, self.bits)
         self.infections_made += int(virus.size)
         self.infections_unchanged += int(virus.size - self._changed.sum())
         if self._changed.any():
@@ -239,18 +219,14 @@ class VEGA(GA):
         """Rules 3-6 with the values of the changed trials (the others are their hosts')."""
         virus, host = self._pairs
         trials = self._trials
-        f = self.f[host].copy()
+        f = self.f[host]  # (a copy: fancy indexing)
         f[self._changed] = f_changed
-        shape = (self.vc.count, self.f.size)
-        trial = np.full(shape, -1)
-        trial[virus, host] = np.arange(virus.size)
-        F = np.full(shape, np.inf)
-        F[virus, host] = f
-        pair_gain = np.where(self._changed, viral.infection_gain(self.f[host], f), 0.0)  # Eq. 11
-        gain = np.zeros(shape)
-        gain[virus, host] = pair_gain
-        self.replace_hosts(trial, F, trials)
-        self.update_viruses(viral.virus_fitness(pair_gain, virus, self.vc.count), trial, gain, trials)
+        # rule 3 (each host takes its best infected version) and the Eq. 11/12 virus fitness
+        take, best, best_f, fitvirus, infected, best_pair = infection_outcome(
+            virus, host, self._changed, f, self.f, self.vc.count, self.vc.replacement == "improve")
+        self.G[take] = trials[best[take]]
+        self.f[take] = best_f[take]
+        self.update_viruses(fitvirus, infected, best_pair, trials)
         self._pairs, self.phase = None, "hosts"
         self._trials, self._changed = trials[:0], self._changed[:0]
         self.end_generation()
@@ -275,9 +251,8 @@ class VEGA(GA):
             return True
         virus, host = self.infections()
         if virus.size == 0:
-            none = np.full((self.vc.count, self.f.size), -1)
-            self.update_viruses(np.zeros(self.vc.count), none, np.zeros(none.shape),
-                                np.zeros((0, self.n_bits), bool))
+            V = self.vc.count
+            self.update_viruses(np.zeros(V), np.zeros(V, bool), np.full(V, -1), np.zeros((0, self.n_bits), bool))
             self.end_generation()
             return True
         return self.begin_infection(virus, host)
