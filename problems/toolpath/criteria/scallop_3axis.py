@@ -35,6 +35,7 @@ from functools import lru_cache
 import numpy as np
 
 from ..plan.zoning.profile import angle_grid, grid_coords, secant_width, section_beta
+from .cusp_kernel import cusp_search
 from .scallop import scallop_height
 
 __all__ = ["WidthTable", "width_table", "cusp_heights", "gap_heights_3axis"]
@@ -79,7 +80,21 @@ def cusp_heights(cutter, w, t_z, b_z, kappa) -> np.ndarray:
     """Cusp height (mm, >= 0; inf where no level spans the gap) between two passes of a
     vertical cutter whose CC points are w apart on the surface; t_z, b_z the z components of
     the unit feed and cross-feed tangents, kappa the curvature across the feed (> 0
-    concave). See the module docstring."""
+    concave). See the module docstring. One compiled pass (``cusp_kernel.cusp_search``):
+    the numbers of :func:`cusp_heights_numpy`, bit for bit."""
+    w, t_z, b_z, kappa = (np.asarray(x, float) for x in np.broadcast_arrays(w, t_z, b_z, kappa))
+    tab = width_table(cutter)
+    fi, fj = grid_coords(t_z, section_beta(t_z, b_z), tab.n_t, tab.n_b)
+    i = np.minimum(fi.astype(int), tab.n_t - 2)
+    j = np.minimum(fj.astype(int), tab.n_b - 2)
+    c = np.ascontiguousarray
+    return cusp_search(tab.table, tab.h, c(i.ravel()), c(j.ravel()), c((fi - i).ravel()),
+                       c((fj - j).ravel()), c(kappa.ravel()), c(w.ravel())).reshape(w.shape)
+
+
+def cusp_heights_numpy(cutter, w, t_z, b_z, kappa) -> np.ndarray:
+    """:func:`cusp_heights` in numpy (the reference its compiled pass,
+    ``cusp_kernel.cusp_search``, is tested against)."""
     w, t_z, b_z, kappa = (np.asarray(x, float) for x in np.broadcast_arrays(w, t_z, b_z, kappa))
     tab = width_table(cutter)
     W = tab.widths(t_z, section_beta(t_z, b_z))

@@ -24,6 +24,7 @@ from scipy.spatial import cKDTree
 from ..geometry.crossings import edges_of, line_intervals
 from ..geometry.footprint import footprint_of
 from ..geometry.surface import Surface
+from .seed_kernel import extent, seed_uv
 
 __all__ = ["PassGeometry"]
 
@@ -128,7 +129,7 @@ class PassGeometry:
         (p + su du + sv dv: error ~ curvature x step^2, ~1e-9 mm from a table seed).
         """
         c, f = self.c, self.f
-        for _ in range(iters):
+        for it in range(iters):
             j = self.surface.jet(u, v, order=1)
             r1 = j.p[:, :2] @ c - d
             r2 = j.p[:, :2] @ f - s
@@ -139,7 +140,8 @@ class PassGeometry:
             un = np.clip(u - (a22 * r1 - a12 * r2) / det, 0.0, 1.0)
             vn = np.clip(v - (a11 * r2 - a21 * r1) / det, 0.0, 1.0)
             du, dv, u, v = un - u, vn - v, un, vn
-            if max(np.abs(du).max(initial=0.0), np.abs(dv).max(initial=0.0)) < 1e-13:
+            if it + 1 < iters and max(np.abs(du).max(initial=0.0),
+                                      np.abs(dv).max(initial=0.0)) < 1e-13:
                 break  # converged (quadratically, from a close seed: ~5 steps for the table)
         if not with_points:
             return u, v
@@ -151,7 +153,14 @@ class PassGeometry:
         return j0, np.clip((d - g[j0]) / (g[j0 + 1] - g[j0]), 0.0, 1.0)
 
     def pass_extent(self, d):
-        """(s_lo, s_hi) of planes d: (n,) each (linear in the d table)."""
+        """(s_lo, s_hi) of planes d: (n,) each (linear in the d table). One compiled pass
+        (``seed_kernel.extent``): the numbers of :meth:`pass_extent_numpy`, bit for bit."""
+        d = np.asarray(d, float)
+        lo, hi = extent(self.d_grid, self.s_lo, self.s_hi, np.ascontiguousarray(d.ravel()))
+        return lo.reshape(d.shape), hi.reshape(d.shape)
+
+    def pass_extent_numpy(self, d):
+        """:meth:`pass_extent` in numpy (the reference the compiled pass is tested against)."""
         j0, fj = self._index(d)
         lo = self.s_lo[j0] * (1 - fj) + self.s_lo[j0 + 1] * fj
         hi = self.s_hi[j0] * (1 - fj) + self.s_hi[j0 + 1] * fj
@@ -182,7 +191,15 @@ class PassGeometry:
 
     def seed(self, d, tau):
         """(u, v) of plane points (d, tau) by bilinear interpolation of the table alone
-        (~1e-3 mm off on Fountas' surface: enough to tell which mesh cell holds a point)."""
+        (~1e-3 mm off on Fountas' surface: enough to tell which mesh cell holds a point).
+        One compiled pass (``seed_kernel.seed_uv``): the numbers of :meth:`seed_numpy`, bit
+        for bit."""
+        d = np.ascontiguousarray(np.broadcast_to(np.asarray(d, float), np.shape(tau)).ravel())
+        tau = np.ascontiguousarray(np.asarray(tau, float).ravel())
+        return seed_uv(self.d_grid, self.U, self.V, d, tau)
+
+    def seed_numpy(self, d, tau):
+        """:meth:`seed` in numpy (the reference the compiled pass is tested against)."""
         j0, fj = self._index(d)
         tf = np.clip(tau, 0.0, 1.0) * (len(self.tau_grid) - 1)
         t0 = np.clip(np.floor(tf).astype(int), 0, len(self.tau_grid) - 2)

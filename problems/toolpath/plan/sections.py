@@ -41,6 +41,7 @@ import numpy as np
 
 from ..geometry.rows import ranges
 from .planes import PassGeometry
+from .seed_kernel import band_inside
 
 __all__ = ["Sections", "plane_offsets", "stretch_runs", "full_plane_sections", "zone_sections"]
 
@@ -109,11 +110,11 @@ def edge_runs(geom: PassGeometry, d, up, down, samples: int = 4):
     (``overrun.py``)."""
     lo, hi = geom.pass_extent(d)
     run_lo, run_hi = np.zeros_like(d), np.zeros_like(d)
-    for f in np.arange(1, samples + 1) / samples:
-        for off in (f * up, -f * down):
-            lo2, hi2 = geom.pass_extent(d + off)
-            run_lo = np.maximum(run_lo, lo - lo2)
-            run_hi = np.maximum(run_hi, hi2 - hi)
+    offs = [off for f in np.arange(1, samples + 1) / samples for off in (f * up, -f * down)]
+    lo_all, hi_all = geom.pass_extent(np.stack([d + off for off in offs]))  # one pass
+    for lo2, hi2 in zip(lo_all, hi_all):
+        run_lo = np.maximum(run_lo, lo - lo2)
+        run_hi = np.maximum(run_hi, hi2 - hi)
     return run_lo, run_hi
 
 
@@ -206,20 +207,12 @@ def _stretches(geom, layout, z, d, gap, side, k, resolution, sub_planes):
     nt = max(int(np.ceil(float(np.max(hi - lo, initial=0.0)) / resolution)) + 1, 2)
     tau = np.linspace(0.0, 1.0, nt)
     s = lo[:, None] + tau[None, :] * (hi - lo)[:, None]  # feed coordinate (P, nt)
-    n, m = layout.labels.shape
     frac = np.arange(1, sub_planes + 1) / sub_planes
     offsets = [np.zeros_like(d)] + [f * up for f in frac] + [-f * down for f in frac]
-    inside = np.zeros((len(d), nt), bool)
-    for off in offsets:
-        d2 = d + off
-        lo2, hi2 = geom.pass_extent(d2)
-        span = np.where(hi2 > lo2, hi2 - lo2, 1.0)
-        t2 = (s - lo2[:, None]) / span[:, None]
-        ok = (t2 >= -1e-9) & (t2 <= 1 + 1e-9)
-        u, v = geom.seed(np.repeat(d2, nt), t2.ravel())
-        i = np.clip((u * n).astype(np.int64), 0, n - 1)
-        j = np.clip((v * m).astype(np.int64), 0, m - 1)
-        inside |= ok & (layout.labels[i, j].reshape(len(d), nt) == z)
+    d2 = np.stack([d + off for off in offsets])  # (sub-plane offsets, P)
+    lo2, hi2 = geom.pass_extent(d2)
+    span = np.where(hi2 > lo2, hi2 - lo2, 1.0)
+    inside = band_inside(geom.d_grid, geom.U, geom.V, layout.labels, z, s, d2, lo2, span)
     pad = np.pad(inside, ((0, 0), (1, 1)))
     starts = np.argwhere(pad[:, 1:-1] & ~pad[:, :-2])
     ends = np.argwhere(pad[:, 1:-1] & ~pad[:, 2:])
@@ -227,6 +220,23 @@ def _stretches(geom, layout, z, d, gap, side, k, resolution, sub_planes):
     ta = np.clip(tau[starts[:, 1]] - half, 0.0, 1.0)
     tb = np.clip(tau[ends[:, 1]] + half, 0.0, 1.0)
     return _on_material(geom, d, starts[:, 0], ta, tb, up, down)
+
+
+def _band_inside_numpy(geom, labels, z, s, d2, lo2, span):
+    """``seed_kernel.band_inside`` in numpy (the reference the compiled pass is tested
+    against): (P, nt) whether some sub-plane offset's sample of each plane lies within its
+    extent and in a mesh cell labelled z."""
+    n, m = labels.shape
+    P, nt = s.shape
+    inside = np.zeros((P, nt), bool)
+    for o in range(len(d2)):
+        t2 = (s - lo2[o][:, None]) / span[o][:, None]
+        ok = (t2 >= -1e-9) & (t2 <= 1 + 1e-9)
+        u, v = geom.seed_numpy(np.repeat(d2[o], nt), t2.ravel())
+        i = np.clip((u * n).astype(np.int64), 0, n - 1)
+        j = np.clip((v * m).astype(np.int64), 0, m - 1)
+        inside |= ok & (labels[i, j].reshape(P, nt) == z)
+    return inside
 
 
 def _on_material(geom, d, plane, ta, tb, up, down):

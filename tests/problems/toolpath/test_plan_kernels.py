@@ -1,0 +1,74 @@
+"""The compiled passes of the planner's pass-plane tables and of the 3-axis cusp search give
+their numpy references' numbers bit for bit: ``PassGeometry.pass_extent`` and ``seed``
+(``plan/seed_kernel.py``), the zone-band membership of ``sections._stretches`` and
+``scallop_3axis.cusp_heights`` (``criteria/cusp_kernel.py``)."""
+
+import numpy as np
+import pytest
+
+from evoplan.problems.toolpath.criteria.scallop_3axis import cusp_heights, cusp_heights_numpy
+from evoplan.problems.toolpath.geometry.spec import parse_surface
+from evoplan.problems.toolpath.plan.planes import PassGeometry
+from evoplan.problems.toolpath.plan.sections import _band_inside_numpy
+from evoplan.problems.toolpath.plan.seed_kernel import band_inside
+from evoplan.problems.toolpath.spec import parse_tools
+
+
+def same_bits(a, b) -> bool:
+    a, b = np.ascontiguousarray(a, float), np.ascontiguousarray(b, float)
+    return a.shape == b.shape and np.array_equal(a.view(np.uint64), b.view(np.uint64))
+
+
+@pytest.fixture(scope="module", params=[0.0, 33.0, 179.5])
+def geom(request):
+    return PassGeometry(parse_surface("fountas"), request.param)
+
+
+def queries(geom, q=3000, seed=0):
+    rng = np.random.default_rng(seed)
+    span = geom.d_max - geom.d_min
+    d = rng.uniform(geom.d_min - 0.1 * span, geom.d_max + 0.1 * span, q)
+    d[:len(geom.d_grid)] = geom.d_grid  # exactly on the table's nodes
+    tau = rng.uniform(-0.2, 1.2, q)
+    tau[:65] = np.linspace(0.0, 1.0, 65)
+    d[-3:], tau[-6:-3] = np.nan, np.nan
+    return d, tau
+
+
+@pytest.mark.filterwarnings("ignore::RuntimeWarning")  # NaN queries cast to int
+def test_pass_extent_and_seed_equal_the_numpy_tables_bit_for_bit(geom):
+    d, tau = queries(geom)
+    for a, b in zip(geom.pass_extent(d), geom.pass_extent_numpy(d)):
+        assert same_bits(a, b)
+    for a, b in zip(geom.seed(d, tau), geom.seed_numpy(d, tau)):
+        assert same_bits(a, b)
+
+
+def test_band_membership_equals_the_numpy_reference(geom):
+    rng = np.random.default_rng(3)
+    labels = rng.integers(0, 3, (70, 70))
+    P, nt = 40, 90
+    d = np.linspace(geom.d_min, geom.d_max, P)
+    lo, hi = geom.pass_extent(d)
+    s = lo[:, None] + np.linspace(-0.05, 1.05, nt)[None, :] * (hi - lo)[:, None]
+    d2 = np.stack([d + off for off in (0.0, 1.3, -2.1, 0.4)])
+    lo2, hi2 = geom.pass_extent(d2)
+    span = np.where(hi2 > lo2, hi2 - lo2, 1.0)
+    for z in range(3):
+        got = band_inside(geom.d_grid, geom.U, geom.V, labels, z, s, d2, lo2, span)
+        ref = _band_inside_numpy(geom, labels, z, s, d2, lo2, span)
+        assert got.any() and np.array_equal(got, ref)
+
+
+def test_cusp_heights_equal_the_numpy_search_bit_for_bit():
+    rng = np.random.default_rng(5)
+    q = 4000
+    t_z, b_z = rng.uniform(-0.8, 0.8, q), rng.uniform(-0.8, 0.8, q)
+    kappa = rng.normal(0.0, 0.05, q)
+    w = rng.uniform(0.0, 12.0, q)
+    w[:20], w[20:40], kappa[40:60] = 0.0, 1e3, 10.0  # the first level, none, too concave
+    w[-5:] = np.nan
+    for cutter in parse_tools(None).cutters:  # flat, torus and ball ends
+        got = cusp_heights(cutter, w, t_z, b_z, kappa)
+        assert same_bits(got, cusp_heights_numpy(cutter, w, t_z, b_z, kappa)), cutter
+        assert np.isinf(got).any() and (got == 0).any()
