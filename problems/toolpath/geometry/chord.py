@@ -37,7 +37,10 @@ def chord_deviation(a, m, b) -> np.ndarray:
     cr = np.cross(am, d)
     with np.errstate(divide="ignore", invalid="ignore"):
         dist = np.sqrt(np.einsum("ij,ij->i", cr, cr) / ll)
-    return np.where(ll > 0, dist, np.linalg.norm(am, axis=-1))
+    chord = ll > 0
+    if chord.all():  # no zero-length chord: the norms below are not needed
+        return dist
+    return np.where(chord, dist, np.linalg.norm(am, axis=-1))
 
 
 def circle_curvature_eq1(theta, L):

@@ -40,9 +40,13 @@ def finish(planner, n, zones, sec, reverse, start, count, pts, seg, tool, genes,
     p = pt["p"]
     on_part, shift = np.ones(len(p), bool), np.zeros_like(p)
     if planner.edge_overrun:
+        # the tool's offset from its contact, at the sections' end points (all the run-on
+        # reads): every other point keeps 0
         ahead, rho = np.zeros(len(p)), np.zeros(len(p))
-        for t in np.unique(tool[ind_pt]):
-            sel = tool[ind_pt] == t
+        ends = np.unique(np.r_[start, start + count - 1])
+        ends_tool = tool[ind_pt[ends]]
+        for t in np.unique(ends_tool):
+            sel = ends[ends_tool == t]
             off = planner.tools.cutter(t).cc_to_tip(p[sel], pt["normal"][sel], axis[sel]) - p[sel]
             tan = pt["tangent"][sel]
             ahead[sel] = np.sum(off[:, :2] * tan[:, :2], axis=1) / np.maximum(
