@@ -41,7 +41,7 @@ import numpy as np
 
 from ..geometry.rows import ranges
 from .planes import PassGeometry
-from .seed_kernel import band_inside
+from .seed_kernel import band_inside, zone_cells
 
 __all__ = ["Sections", "plane_offsets", "stretch_runs", "full_plane_sections", "zone_sections"]
 
@@ -212,7 +212,8 @@ def _stretches(geom, layout, z, d, gap, side, k, resolution, sub_planes):
     d2 = np.stack([d + off for off in offsets])  # (sub-plane offsets, P)
     lo2, hi2 = geom.pass_extent(d2)
     span = np.where(hi2 > lo2, hi2 - lo2, 1.0)
-    inside = band_inside(geom.d_grid, geom.U, geom.V, layout.labels, z, s, d2, lo2, span)
+    inside = band_inside(geom.d_grid, geom.U, geom.V, layout.labels, z, s, d2, lo2, span,
+                         _zone_cells(geom, layout, z))
     pad = np.pad(inside, ((0, 0), (1, 1)))
     starts = np.argwhere(pad[:, 1:-1] & ~pad[:, :-2])
     ends = np.argwhere(pad[:, 1:-1] & ~pad[:, 2:])
@@ -220,6 +221,16 @@ def _stretches(geom, layout, z, d, gap, side, k, resolution, sub_planes):
     ta = np.clip(tau[starts[:, 1]] - half, 0.0, 1.0)
     tb = np.clip(tau[ends[:, 1]] + half, 0.0, 1.0)
     return _on_material(geom, d, starts[:, 0], ta, tb, up, down)
+
+
+def _zone_cells(geom, layout, z):
+    """``seed_kernel.zone_cells`` of zone z on geom's tables, memoized in the layout (it
+    depends on the layout and the feed direction alone, not on the genes)."""
+    memo = layout.__dict__.setdefault("_zone_cells", {})
+    key = (z, float(geom.f[0]), float(geom.f[1]), geom.U.shape)  # the direction's tables
+    if key not in memo:
+        memo[key] = zone_cells(geom.U, geom.V, layout.labels, z)
+    return memo[key]
 
 
 def _band_inside_numpy(geom, labels, z, s, d2, lo2, span):

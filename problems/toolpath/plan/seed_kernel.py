@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-__all__ = ["extent", "seed_uv", "band_inside"]
+__all__ = ["extent", "seed_uv", "band_inside", "zone_cells"]
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
@@ -42,8 +42,8 @@ def _d_cell(g, d):
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _bilinear(U, V, j0, fj, tau, nt):
-    """``PassGeometry.seed_numpy`` of one point of plane cell (j0, fj): (u, v)."""
+def _tau_cell(tau, nt):
+    """The tau cell of ``PassGeometry.seed_numpy`` of one point: (t0, ft)."""
     if tau < 0.0:
         tau = 0.0
     elif tau > 1.0:
@@ -53,7 +53,12 @@ def _bilinear(U, V, j0, fj, tau, nt):
         t0 = 0  # numpy's NaN -> int64 is the smallest int64, clipped to 0
     else:
         t0 = min(max(np.int64(np.floor(tf)), 0), nt - 2)
-    ft = tf - t0
+    return t0, tf - t0
+
+
+@njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _bilinear(U, V, j0, fj, t0, ft):
+    """``PassGeometry.seed_numpy`` of one point of table cell (j0, t0): (u, v)."""
     w00, w01 = (1 - fj) * (1 - ft), (1 - fj) * ft
     w10, w11 = fj * (1 - ft), fj * ft
     u = (U[j0, t0] * w00 + U[j0, t0 + 1] * w01 + U[j0 + 1, t0] * w10
@@ -82,16 +87,19 @@ def seed_uv(g, U, V, d, tau):
     u, v = np.empty(q), np.empty(q)
     for i in range(q):
         j0, fj = _d_cell(g, d[i])
-        u[i], v[i] = _bilinear(U, V, j0, fj, tau[i], nt)
+        t0, ft = _tau_cell(tau[i], nt)
+        u[i], v[i] = _bilinear(U, V, j0, fj, t0, ft)
     return u, v
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
-def band_inside(g, U, V, labels, z, s, d2, lo2, span):
+def band_inside(g, U, V, labels, z, s, d2, lo2, span, maybe):
     """(P, nt) whether the band of each plane holds zone z at each feed sample: s (P, nt)
     the samples' feed coordinates; per sub-plane offset o and plane i the offset d2[o, i],
     its extent's start lo2[o, i] and span[o, i]; a sample is inside when on some sub-plane
-    it lies within the extent (1e-9) and its seed's mesh cell carries label z."""
+    it lies within the extent (1e-9) and its seed's mesh cell carries label z. ``maybe``
+    (table cells): False where no seed of the cell can fall in a cell of zone z
+    (:func:`zone_cells`), those samples are not seeded."""
     P, nt = s.shape
     n, m = labels.shape
     ntab = U.shape[1]
@@ -106,9 +114,34 @@ def band_inside(g, U, V, labels, z, s, d2, lo2, span):
                 t2 = (s[i, t] - lo) / sp
                 if not ((t2 >= -1e-9) & (t2 <= 1 + 1e-9)):
                     continue
-                u, v = _bilinear(U, V, j0, fj, t2, ntab)
+                t0, ft = _tau_cell(t2, ntab)
+                if not maybe[j0, t0] and fj == fj:
+                    continue
+                u, v = _bilinear(U, V, j0, fj, t0, ft)
                 a = min(max(np.int64(u * n) if u == u else 0, 0), n - 1)
                 b = min(max(np.int64(v * m) if v == v else 0, 0), m - 1)
                 if labels[a, b] == z:
                     inside[i, t] = True
     return inside
+
+
+def zone_cells(U, V, labels, z, margin: float = 1e-9) -> np.ndarray:
+    """(n_d - 1, n_tau - 1) bool: whether a seed in each table cell can fall in a mesh cell
+    labelled z. A seed is a convex combination of its cell's four corners (weights in
+    [0, 1]), so its u lies within the corners' range (``margin`` covers the round-off of
+    the weights' sum) and its mesh row within that range's rows; likewise v. False: the
+    box of mesh cells holds no cell of zone z (a summed-area count)."""
+    n, m = labels.shape
+    corners = [(U[:-1, :-1], U[:-1, 1:], U[1:, :-1], U[1:, 1:]),
+               (V[:-1, :-1], V[:-1, 1:], V[1:, :-1], V[1:, 1:])]
+    box = []
+    for c, size in zip(corners, (n, m)):
+        lo = np.minimum(np.minimum(c[0], c[1]), np.minimum(c[2], c[3])) - margin
+        hi = np.maximum(np.maximum(c[0], c[1]), np.maximum(c[2], c[3])) + margin
+        box.append((np.clip(np.trunc(lo * size), 0, size - 1).astype(np.int64),
+                    np.clip(np.trunc(hi * size), 0, size - 1).astype(np.int64)))
+    (a0, a1), (b0, b1) = box
+    sat = np.zeros((n + 1, m + 1), np.int64)
+    sat[1:, 1:] = np.cumsum(np.cumsum(labels == z, axis=0), axis=1)
+    count = sat[a1 + 1, b1 + 1] - sat[a0, b1 + 1] - sat[a1 + 1, b0] + sat[a0, b0]
+    return count > 0

@@ -10,7 +10,7 @@ from evoplan.problems.toolpath.criteria.scallop_3axis import cusp_heights, cusp_
 from evoplan.problems.toolpath.geometry.spec import parse_surface
 from evoplan.problems.toolpath.plan.planes import PassGeometry
 from evoplan.problems.toolpath.plan.sections import _band_inside_numpy
-from evoplan.problems.toolpath.plan.seed_kernel import band_inside
+from evoplan.problems.toolpath.plan.seed_kernel import band_inside, zone_cells
 from evoplan.problems.toolpath.spec import parse_tools
 
 
@@ -55,9 +55,33 @@ def test_band_membership_equals_the_numpy_reference(geom):
     lo2, hi2 = geom.pass_extent(d2)
     span = np.where(hi2 > lo2, hi2 - lo2, 1.0)
     for z in range(3):
-        got = band_inside(geom.d_grid, geom.U, geom.V, labels, z, s, d2, lo2, span)
         ref = _band_inside_numpy(geom, labels, z, s, d2, lo2, span)
-        assert got.any() and np.array_equal(got, ref)
+        cells = zone_cells(geom.U, geom.V, labels, z)
+        every = np.ones_like(cells)
+        for maybe in (cells, every):  # the zone's table cells, or every sample seeded
+            got = band_inside(geom.d_grid, geom.U, geom.V, labels, z, s, d2, lo2, span, maybe)
+            assert got.any() and np.array_equal(got, ref)
+
+
+def test_zone_cells_skip_only_cells_no_seed_of_which_is_in_the_zone(geom):
+    """Every seed of a table cell marked False falls outside zone z (dense seeds), and a
+    small zone leaves most cells False."""
+    labels = np.zeros((70, 70), np.int64)
+    labels[30:36, 40:44] = 1
+    cells = zone_cells(geom.U, geom.V, labels, 1)
+    assert 0 < cells.sum() < 0.2 * cells.size
+    nd, nt = geom.U.shape
+    rng = np.random.default_rng(1)
+    j0 = rng.integers(0, nd - 1, 20000)
+    t0 = rng.integers(0, nt - 1, 20000)
+    fj, ft = rng.random(20000), rng.random(20000)
+    d = geom.d_grid[j0] + fj * (geom.d_grid[j0 + 1] - geom.d_grid[j0])
+    tau = (t0 + ft) / (nt - 1)
+    u, v = geom.seed(d, tau)
+    i = np.clip((u * 70).astype(np.int64), 0, 69)
+    j = np.clip((v * 70).astype(np.int64), 0, 69)
+    jj, tt = geom._index(d)[0], np.clip(np.floor(tau * (nt - 1)).astype(int), 0, nt - 2)
+    assert not np.any((labels[i, j] == 1) & ~cells[jj, tt])
 
 
 def test_cusp_heights_equal_the_numpy_search_bit_for_bit():
