@@ -120,7 +120,7 @@ def point_heights(batch, surface, tools, genes, *, allowance, machine=None) -> d
         c3 = np.column_stack([-np.sin(alpha), np.cos(alpha), np.zeros_like(alpha)])
     bvec = c3 - np.einsum("ij,ij->i", nrm, c3)[:, None] * nrm
     bc = np.linalg.norm(bvec, axis=-1)  # = b.c, b the unit cross-feed tangent
-    kappa = normal_curvature(jet, bvec / bc[:, None], surface.normal_sign)
+    kappa = normal_curvature(jet, bvec / bc[:, None], surface.normal_sign, nrm)
     w = (batch.pt_gap if curves else batch.sec_spacing[sec]) / bc
     side = batch.pt_gap_side if curves else batch.sec_side[sec]
     if _five_axis(genes, machine):

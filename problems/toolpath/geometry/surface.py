@@ -204,9 +204,10 @@ def unit_normal(jet: Jet, sign: float = 1.0) -> np.ndarray:
     return n / np.linalg.norm(n, axis=-1, keepdims=True)
 
 
-def fundamental_forms(jet: Jet, sign: float = 1.0):
-    """(E, F, G, L, M, N, normal): first and second fundamental forms, each (n,)."""
-    n = unit_normal(jet, sign)
+def fundamental_forms(jet: Jet, sign: float = 1.0, normal=None):
+    """(E, F, G, L, M, N, normal): first and second fundamental forms, each (n,);
+    ``normal``: the jet's :func:`unit_normal` when the caller has it already."""
+    n = unit_normal(jet, sign) if normal is None else normal
     e = np.einsum("ij,ij->i", jet.su, jet.su)
     f = np.einsum("ij,ij->i", jet.su, jet.sv)
     g = np.einsum("ij,ij->i", jet.sv, jet.sv)
@@ -216,13 +217,14 @@ def fundamental_forms(jet: Jet, sign: float = 1.0):
     return e, f, g, el, m, nn, n
 
 
-def normal_curvature(jet: Jet, direction, sign: float = 1.0) -> np.ndarray:
+def normal_curvature(jet: Jet, direction, sign: float = 1.0, normal=None) -> np.ndarray:
     """Normal curvature along tangent directions (n, 3): II(d, d) / I(d, d), (n,).
 
     The direction is projected on the tangent plane and expressed in the (su, sv) basis by
     the 2x2 normal equations; > 0 means concave seen from the tool (see module docstring).
+    ``normal``: the jet's :func:`unit_normal` (with this ``sign``) when the caller has it.
     """
-    e, f, g, el, m, nn, n = fundamental_forms(jet, sign)
+    e, f, g, el, m, nn, n = fundamental_forms(jet, sign, normal)
     d = np.asarray(direction, float)
     d = d - np.einsum("ij,ij->i", d, n)[:, None] * n
     bu = np.einsum("ij,ij->i", jet.su, d)
