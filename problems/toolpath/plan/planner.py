@@ -73,7 +73,6 @@ class Planner:
         self.feed_angle = None if feed_angle is None else float(feed_angle)
         self.edge_overrun = bool(edge_overrun) and self.machine.overrun
         self.layouts = ZoneLayouts(surface, tools, zoning, self.h_c, self.feed_angle)
-        self._geoms: dict[float, PassGeometry] = {}
         # a list of strategies: the categorical gene ``strategy`` chooses among them
         self.choices = ([get_strategy(x, f"strategy[{i}]") for i, x in enumerate(strategy)]
                         if isinstance(strategy, (list, tuple)) else None)
@@ -119,11 +118,9 @@ class Planner:
         return self.layouts.get(value, int(np.atleast_1d(genes["tool"])[0]))
 
     def geometry(self, alpha: float) -> PassGeometry:
-        """Pass-plane tables for the feed direction alpha (radians), memoized."""
-        key = round(float(np.degrees(alpha)) % 360.0, 9)
-        if key not in self._geoms:
-            self._geoms[key] = PassGeometry(self.surface, key)
-        return self._geoms[key]
+        """Pass-plane tables for the feed direction alpha (radians), memoized (with the
+        zone layouts, which build those of their zones' directions)."""
+        return self.layouts.geometry(alpha)
 
     def decisions(self, genes: dict):
         """(tool index (n,), n, step (n,), XY step-over delta (n,) mm, nan without one)."""

@@ -43,7 +43,8 @@ from ..geometry.rows import ranges
 from .planes import PassGeometry
 from .seed_kernel import band_inside, zone_cells
 
-__all__ = ["Sections", "plane_offsets", "stretch_runs", "full_plane_sections", "zone_sections"]
+__all__ = ["Sections", "plane_offsets", "stretch_runs", "full_plane_sections", "zone_sections",
+           "layout_zone_cells"]
 
 
 @dataclass
@@ -213,7 +214,7 @@ def _stretches(geom, layout, z, d, gap, side, k, resolution, sub_planes):
     lo2, hi2 = geom.pass_extent(d2)
     span = np.where(hi2 > lo2, hi2 - lo2, 1.0)
     inside = band_inside(geom.d_grid, geom.U, geom.V, layout.labels, z, s, d2, lo2, span,
-                         _zone_cells(geom, layout, z))
+                         layout_zone_cells(geom, layout, z))
     pad = np.pad(inside, ((0, 0), (1, 1)))
     starts = np.argwhere(pad[:, 1:-1] & ~pad[:, :-2])
     ends = np.argwhere(pad[:, 1:-1] & ~pad[:, 2:])
@@ -223,7 +224,7 @@ def _stretches(geom, layout, z, d, gap, side, k, resolution, sub_planes):
     return _on_material(geom, d, starts[:, 0], ta, tb, up, down)
 
 
-def _zone_cells(geom, layout, z):
+def layout_zone_cells(geom, layout, z):
     """``seed_kernel.zone_cells`` of zone z on geom's tables, memoized in the layout (it
     depends on the layout and the feed direction alone, not on the genes)."""
     memo = layout.__dict__.setdefault("_zone_cells", {})

@@ -14,7 +14,10 @@ evaluations mostly hit this memo):
    and rounded to the ``ALPHA_STEP_DEG`` grid (``plan_zones`` keeps the optimum as found);
 3. per zone, the adaptive planes at h_c (``zoning/passes.py``: each plane as far from the
    previous one as the worst point of its pass allows) and the zone's extent across its
-   feed (``sections.py`` cuts the planes into sections from the labels).
+   feed (``sections.py`` cuts the planes into sections from the labels);
+4. what the plans of the layout need and no gene changes, built with it: the pass-plane
+   tables of each zone's direction (``planes.PassGeometry``, memoized per direction) and
+   the table cells that can reach each zone (``sections.layout_zone_cells``).
 """
 
 from __future__ import annotations
@@ -23,6 +26,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .planes import PassGeometry
+from .sections import layout_zone_cells
 from .zoning.features import check_mesh, mesh_features
 from .zoning.merge import MergeSettings
 from .zoning.methods import get_method
@@ -93,6 +98,7 @@ class ZoneLayouts:
         self.mesh = check_mesh(*self.spec.mesh)
         self._features = self._samples = None
         self._memo: dict = {}
+        self._geoms: dict[float, PassGeometry] = {}
 
     def __getstate__(self):
         """Pickled without the memo and the samples (megabytes a worker process rebuilds
@@ -130,9 +136,18 @@ class ZoneLayouts:
         """The layout of one gene value and tool index (memoized)."""
         key = (self.key(value), int(tool))
         if key not in self._memo:
-            self._memo[key] = self._layout(key[0], ScallopTarget(self.tools.cutter(tool),
-                                                                 self.h_c))
+            layout = self._layout(key[0], ScallopTarget(self.tools.cutter(tool), self.h_c))
+            for z, a in enumerate(layout.alpha):  # step 4 of the module docstring
+                layout_zone_cells(self.geometry(a), layout, z)
+            self._memo[key] = layout
         return self._memo[key]
+
+    def geometry(self, alpha: float) -> PassGeometry:
+        """Pass-plane tables for the feed direction alpha (radians), memoized."""
+        key = round(float(np.degrees(alpha)) % 360.0, 9)
+        if key not in self._geoms:
+            self._geoms[key] = PassGeometry(self.surface, key)
+        return self._geoms[key]
 
     # ---------------------------------------------------------------------------------
     def _labels(self, value, target):
