@@ -126,15 +126,32 @@ class ProcessPool:
             results += self._wave(handle, chunks[lo:lo + self.workers])
         return results
 
+    def _submit(self, handle: tuple[str, bytes], chunks: list) -> list:
+        """One future per chunk; ``None`` for a chunk that could not be submitted because a
+        worker of this wave died meanwhile (the executor, starting a process on demand for
+        the next chunk, then fails on its closed queue: ``OSError: handle is closed``, or
+        raises ``BrokenProcessPool``)."""
+        futures: list = []
+        for c in chunks:
+            try:
+                futures.append(self.executor.submit(_call_blob, *handle, c))
+            except BrokenProcessPool:
+                if futures:  # broken by this wave's own chunks
+                    futures.append(None)
+                else:  # broken before this wave (a study's task killed it)
+                    self._rebuild()
+                    futures.append(self.executor.submit(_call_blob, *handle, c))
+            except OSError:
+                futures.append(None)
+        return futures
+
     def _wave(self, handle: tuple[str, bytes], chunks: list) -> list:
-        try:
-            futures = [self.executor.submit(_call_blob, *handle, c) for c in chunks]
-        except BrokenProcessPool:  # broken before this batch (a study's task killed it)
-            self._rebuild()
-            futures = [self.executor.submit(_call_blob, *handle, c) for c in chunks]
+        futures = self._submit(handle, chunks)
+        running = [f for f in futures if f is not None]
         limit = None if self.timeout is None else self.timeout * max(len(c) for c in chunks) + START_SLACK
-        _, late = futures_wait(futures, timeout=limit)
-        results = [TimeoutError(f"no result within timeout_s = {self.timeout:g} s per row") if f in late
+        _, late = futures_wait(running, timeout=limit)
+        results = [BrokenProcessPool("not submitted: the pool broke") if f is None
+                   else TimeoutError(f"no result within timeout_s = {self.timeout:g} s per row") if f in late
                    else _outcome(f) for f in futures]
         died = [i for i, r in enumerate(results) if isinstance(r, BrokenProcessPool)]
         for i in died:

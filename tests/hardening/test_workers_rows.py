@@ -62,3 +62,30 @@ def test_dask_close_survives_a_nanny_still_starting_a_worker(monkeypatch):
     pool.close()
     assert len(calls) == 2
     assert pool.cluster.status.name == "closed"
+
+
+class _ClosingExecutor:
+    """An executor whose worker died during the wave: the next submit, which would start a
+    process on its closed queue, fails as CPython's does (``OSError: handle is closed``)."""
+
+    def __init__(self, real):
+        self.real, self.calls = real, 0
+
+    def submit(self, fn, *args):
+        self.calls += 1
+        if self.calls > 1:
+            raise OSError("handle is closed")
+        return self.real.submit(fn, *args)
+
+    def __getattr__(self, name):
+        return getattr(self.real, name)
+
+
+def test_processes_a_worker_dying_while_its_wave_is_submitted_costs_only_its_rows():
+    pool = open_pool("processes", 2)
+    try:
+        pool.executor = _ClosingExecutor(pool.executor)
+        check_rows(ParallelEvaluator(Evaluator(Dies()), pool, chunks=2)(X))
+        assert pool.rebuilds >= 1
+    finally:
+        pool.close()
