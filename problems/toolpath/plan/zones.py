@@ -101,10 +101,11 @@ class ZoneLayouts:
         self._geoms: dict[float, PassGeometry] = {}
 
     def __getstate__(self):
-        """Pickled without the memo and the samples (megabytes a worker process rebuilds
-        faster than it unpickles them, and the same numbers either way)."""
+        """Pickled without the memo, the samples and the pass-plane tables (megabytes a
+        worker process rebuilds faster than it unpickles them, and the same numbers either
+        way)."""
         state = dict(self.__dict__)
-        state.update(_features=None, _samples=None, _memo={})
+        state.update(_features=None, _samples=None, _memo={}, _geoms={})
         return state
 
     @property
