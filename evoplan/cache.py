@@ -22,10 +22,10 @@ integer code; up to 64 bits: one ``uint64``; wider: one ``np.void`` of its bytes
 to 64 bits live in a compiled open-addressing table (:mod:`evoplan.key_index`): a batch of
 boolean genotypes is coded, looked up and its repeats found in one compiled pass, and stored
 in another; no Python object per row. Wider keys use a dictionary of ``bytes``, one C-level
-pass a batch. Profile (pyinstrument, Kubota, GA pop 2000 x 40, ten runs): with a dictionary of
-Python ints the cache held 1.8 of 3.75 s (``map(dict.get)`` 0.61 s, ``dict.update`` 0.46 s);
-with the compiled table 0.15 of 1.18 s (look-up 0.10, store 0.045). ``runs/bench/floor.py``
-times it against a plain numpy GA.
+pass a batch. Profile (pyinstrument, Kubota, GA pop 2000 x 40, ten runs, old and new code in one
+sitting): with a dictionary of Python ints the cache held 0.76 of 1.79 s (look-up 0.47, store
+0.29); with the compiled table 0.15 of 0.82 s (look-up 0.11, store 0.03).
+``runs/bench/floor.py`` times it against a plain numpy GA.
 
 **State as plain data.** The cache is a few numpy arrays (packed genotypes as byte rows,
 values) and integers (:meth:`to_data` / :meth:`from_data`); the index is rebuilt from
