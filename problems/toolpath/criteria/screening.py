@@ -37,12 +37,14 @@ relearns them from the simulations after the resume (its best stays a simulated 
 from __future__ import annotations
 
 import math
+from typing import Literal
 
 import numpy as np
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
 
 from .objective import weighted_sum
 
-__all__ = ["Screening", "CORRECTIONS"]
+__all__ = ["Screening", "ScreeningSettings", "CORRECTIONS", "settings_error"]
 
 #: ways to predict a plan's simulated objective from its analytic one
 CORRECTIONS = ("nearest", "offset")
@@ -51,33 +53,83 @@ CORRECTIONS = ("nearest", "offset")
 _CATEGORICAL = ("tool", "strategy")
 
 
-class Screening:
-    """The screening of a batch by the analytic criteria (module docstring).
+class ScreeningSettings(BaseModel):
+    """A run file's ``simulation.screening`` mapping (module docstring); unknown keys are
+    refused."""
 
-    ``options``: ``fraction`` (0.25; in (0, 1]: the share of each batch simulated, the elite
-    aside; 1 simulates every plan, as without screening), ``correction`` (nearest | offset),
-    ``neighbours`` (3, for ``nearest``).
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+    fraction: float = Field(0.25, description="the share of each batch simulated, the elite "
+                            "aside; in (0, 1] (1 simulates every plan, as without screening)")
+    correction: Literal["nearest", "offset"] = Field(
+        "nearest", description="how a plan's simulated objective is predicted from its analytic one")
+    neighbours: int = Field(3, description="simulated plans the nearest correction averages (>= 1)")
+
+    @model_validator(mode="before")
+    @classmethod
+    def _mapping(cls, data):
+        if not isinstance(data, (dict, ScreeningSettings)):
+            raise ValueError(f"expected a mapping (fraction, correction, neighbours), got {data!r}")
+        return data
+
+    @field_validator("fraction", mode="before")
+    @classmethod
+    def _fraction(cls, v):
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not 0 < v <= 1:
+            raise ValueError(f"expected a number in (0, 1], got {v!r}")
+        return float(v)
+
+    @field_validator("correction", mode="before")
+    @classmethod
+    def _correction(cls, v):
+        if v not in CORRECTIONS:
+            raise ValueError(f"expected {' or '.join(CORRECTIONS)}, got {v!r}")
+        return v
+
+    @field_validator("neighbours", mode="before")
+    @classmethod
+    def _neighbours(cls, v):
+        return at_least_one(v)
+
+
+def at_least_one(value, of: str = "") -> int:
+    """An integer >= 1 (a bool or a float refused); ``of`` names what it counts."""
+    if isinstance(value, bool) or not isinstance(value, int) or value < 1:
+        raise ValueError(f"expected a whole number{of} >= 1, got {value!r}")
+    return value
+
+
+def settings_error(error, key: str, models: dict) -> str:
+    """One line ``key.path: message`` of a settings model's ``ValidationError``; ``models``:
+    location below ``key`` -> the model there, whose keys an unknown key's hint lists as
+    ``unknown setting (known: ...)``."""
+    from ..spec.errors import Known, one_line  # spec builds on this module: imported at the call
+
+    def known(loc):
+        model = models.get(tuple(loc))
+        return None if model is None else Known.settings(model)
+    return one_line(error, key, known)
+
+
+class Screening:
+    """The screening of a batch by the analytic criteria (module docstring), with the pairs
+    it has learned from.
+
+    ``settings``: a :class:`ScreeningSettings` (a plain mapping is validated into one, its
+    errors starting with ``key``).
     """
 
-    KEYS = {"fraction", "correction", "neighbours"}
-
-    def __init__(self, options, key: str = "simulation.screening") -> None:
-        if not isinstance(options, dict):
-            raise ValueError(f"{key}: expected a mapping (fraction, correction, neighbours), got {options!r}")
-        unknown = set(options) - self.KEYS
-        if unknown:
-            raise ValueError(f"{key}.{sorted(unknown)[0]}: unknown setting (known: {', '.join(sorted(self.KEYS))})")
-        fraction = options.get("fraction", 0.25)
-        if isinstance(fraction, bool) or not isinstance(fraction, (int, float)) or not 0 < fraction <= 1:
-            raise ValueError(f"{key}.fraction: expected a number in (0, 1], got {fraction!r}")
-        self.fraction = float(fraction)
-        self.correction = options.get("correction", "nearest")
-        if self.correction not in CORRECTIONS:
-            raise ValueError(f"{key}.correction: expected {' or '.join(CORRECTIONS)}, got {self.correction!r}")
-        k = options.get("neighbours", 3)
-        if isinstance(k, bool) or not isinstance(k, int) or k < 1:
-            raise ValueError(f"{key}.neighbours: expected a whole number >= 1, got {k!r}")
-        self.neighbours = k
+    def __init__(self, settings: ScreeningSettings | dict | None = None,
+                 key: str = "simulation.screening") -> None:
+        if not isinstance(settings, ScreeningSettings):
+            try:
+                settings = ScreeningSettings.model_validate({} if settings is None else settings)
+            except ValidationError as e:
+                raise ValueError(settings_error(e, key, {(): ScreeningSettings})) from None
+        self.settings = settings
+        self.fraction = settings.fraction
+        self.correction = settings.correction
+        self.neighbours = settings.neighbours
         self.best = math.inf  # the best simulated objective returned so far
         self.simulations = 0
         self.screened = 0  # plans valued by their prediction alone

@@ -18,60 +18,98 @@ populations on the processes or Dask backend (each evaluation runs on one core).
 
 from __future__ import annotations
 
-import numpy as np
+import math
+from typing import Annotated, Literal
 
-from ..simulation.design import DesignGrid, design_grid
-from ..simulation.metrics import residual_metrics
-from ..simulation.sweep import sweep_path
+import numpy as np
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
+
+from .screening import Screening, ScreeningSettings, at_least_one, settings_error
 from .table import names
 
-__all__ = ["SimulatedCriteria", "SIMULATED"]
+__all__ = ["SimulatedCriteria", "SimulationSettings", "SIMULATED"]
 
 #: the criteria the cut simulation measures (the table's ``simulated`` flag)
 SIMULATED = names(simulated=True)
 
 
+class SimulationSettings(BaseModel):
+    """A run file's ``simulation`` mapping (``criteria: simulated`` only): how the cut
+    simulation measures a plan. Unknown keys are refused."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+    grid_mm: float = Field(0.5, description="design grid spacing, mm (> 0)")
+    rays: Literal["normal", "vertical"] = Field(
+        "normal", description="normal: along the surface normal; vertical: along Z")
+    allowance: float = Field(0.5, description="the finishing stock, mm (> 0): a cell no cutter "
+                             "pose reached keeps that much")
+    threads: int = Field(1, description="the sweep's tiles shared among that many threads "
+                         "(same residual; evaluation.backend serial only)")
+    screening: Annotated[ScreeningSettings | None, Field(
+        description="only the plans the analytic criteria rank most promising are simulated "
+                    "(criteria/screening.py); absent: every plan is")] = None
+
+    @field_validator("grid_mm", "allowance", mode="before")
+    @classmethod
+    def _mm(cls, v):
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not (math.isfinite(v) and v > 0):
+            raise ValueError("must be a positive number of mm")
+        return float(v)
+
+    @field_validator("rays", mode="before")
+    @classmethod
+    def _rays(cls, v):
+        if v not in ("normal", "vertical"):
+            raise ValueError(f"expected normal or vertical, got {v!r}")
+        return v
+
+    @field_validator("threads", mode="before")
+    @classmethod
+    def _threads(cls, v):
+        return at_least_one(v, " of threads")
+
+    @classmethod
+    def of(cls, options, key: str = "simulation") -> "SimulationSettings":
+        """The settings of a plain mapping (None: the defaults); one-line ``ValueError``
+        starting with ``key`` (``simulation.rays: expected normal or vertical, got 'x'``)."""
+        if isinstance(options, cls):
+            return options
+        try:
+            return cls.model_validate(dict(options or {}))
+        except ValidationError as e:
+            raise ValueError(settings_error(e, key, {(): cls, ("screening",): ScreeningSettings})) from None
+
+
 class SimulatedCriteria:
     """The cut simulation as a criteria source for a problem whose rows make CL paths.
 
-    ``options``: ``grid_mm`` (0.5), ``rays`` (normal | vertical), ``allowance`` (0.5 mm),
-    ``threads`` (1: the sweep's tiles shared among that many threads, same residual),
-    ``screening`` (a mapping, ``criteria/screening.py``: only the plans the analytic criteria
-    rank most promising are simulated; absent: every plan is).
+    ``settings``: a :class:`SimulationSettings` (a plain mapping is validated into one, its
+    errors starting with ``key``): ``grid_mm``, ``rays`` (normal | vertical), ``allowance``,
+    ``threads``, ``screening`` (``criteria/screening.py``: only the plans the analytic
+    criteria rank most promising are simulated; absent: every plan is).
     """
 
-    KEYS = {"grid_mm", "rays", "allowance", "threads", "screening"}
-
-    def __init__(self, surface, options: dict | None = None, key: str = "simulation"):
-        options = dict(options or {})
-        unknown = set(options) - self.KEYS
-        if unknown:
-            raise ValueError(f"{key}.{sorted(unknown)[0]}: unknown setting "
-                             f"(known: {', '.join(sorted(self.KEYS))})")
-        self.grid_mm = float(options.get("grid_mm", 0.5))
-        self.allowance = float(options.get("allowance", 0.5))
-        rays = options.get("rays", "normal")
-        if rays not in ("normal", "vertical"):
-            raise ValueError(f"{key}.rays: expected normal or vertical, got {rays!r}")
-        for name in ("grid_mm", "allowance"):
-            if not (np.isfinite(getattr(self, name)) and getattr(self, name) > 0):
-                raise ValueError(f"{key}.{name}: must be a positive number of mm")
-        threads = options.get("threads", 1)
-        if isinstance(threads, bool) or not isinstance(threads, int) or threads < 1:
-            raise ValueError(f"{key}.threads: expected a whole number of threads >= 1, got {threads!r}")
-        self.threads = threads
+    def __init__(self, surface, settings: SimulationSettings | dict | None = None,
+                 key: str = "simulation"):
+        self.settings = SimulationSettings.of(settings, key)
+        self.grid_mm = self.settings.grid_mm
+        self.allowance = self.settings.allowance
+        self.threads = self.settings.threads
         self.screening = None
-        if options.get("screening") is not None:
-            from .screening import Screening
-
-            self.screening = Screening(options["screening"], f"{key}.screening")
-        self.vertical = rays == "vertical"
+        if self.settings.screening is not None:
+            self.screening = Screening(self.settings.screening)
+        self.vertical = self.settings.rays == "vertical"
         self.surface = surface
-        self._grid: DesignGrid | None = None
+        self._grid = None
 
     @property
-    def grid(self) -> DesignGrid:
+    def grid(self):
+        """The design grid (``simulation/design.py``), built at the first measure: the
+        settings model is imported with the spec, the simulation only when it runs."""
         if self._grid is None:
+            from ..simulation.design import design_grid
+
             self._grid = design_grid(self.surface, self.grid_mm)
         return self._grid
 
@@ -80,6 +118,9 @@ class SimulatedCriteria:
 
     def measure(self, path, flat: bool) -> dict[str, float]:
         """The simulated criteria (``SIMULATED``) of one CL path (``flat``: a flat-end cutter)."""
+        from ..simulation.metrics import residual_metrics
+        from ..simulation.sweep import sweep_path
+
         grid = self.grid
         res = sweep_path(path, grid, vertical=self.vertical, threads=self.threads).values
         m = residual_metrics(grid, res, self.allowance)

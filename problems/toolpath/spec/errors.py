@@ -9,12 +9,27 @@ the failing value there (``tools[2].corner_radius: ...``). Errors pydantic raise
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 from pydantic import ValidationError
 
-__all__ = ["HERE", "key_path", "one_line"]
+__all__ = ["HERE", "Known", "key_path", "one_line"]
 
 #: placeholder for the key path in a message raised inside a validator
 HERE = "\x1e"
+
+
+class Known(NamedTuple):
+    """The keys a mapping may hold, for an unknown key's hint, and what the hint calls one
+    (``simulation.share: unknown setting (known: ...)``)."""
+
+    keys: list
+    noun: str = "key"
+
+    @classmethod
+    def settings(cls, model) -> "Known":
+        """A settings model's keys, sorted, each an ``unknown setting`` in the hint."""
+        return cls(sorted(model.model_fields), "setting")
 
 
 def key_path(loc, prefix: str = "") -> str:
@@ -37,15 +52,18 @@ def _unknown(errors, prefix: str, known_of) -> str | None:
     parent = extra[0]["loc"][:-1]
     names = sorted(str(e["loc"][-1]) for e in extra if e["loc"][:-1] == parent)
     known = known_of(parent) if known_of else None
-    tail = f" (known: {', '.join(known)})" if known else ""
+    known = known if known is None or isinstance(known, Known) else Known(list(known))
+    tail = f" (known: {', '.join(known.keys)})" if known and known.keys else ""
+    noun = known.noun if known else "key"
     if len(names) == 1:
-        return f"{key_path((*parent, names[0]), prefix)}: unknown key{tail}"
-    return f"{key_path(parent, prefix) or 'params'}: unknown keys {', '.join(names)}{tail}"
+        return f"{key_path((*parent, names[0]), prefix)}: unknown {noun}{tail}"
+    return f"{key_path(parent, prefix) or 'params'}: unknown {noun}s {', '.join(names)}{tail}"
 
 
 def one_line(exc: ValidationError, prefix: str = "", known_of=None) -> str:
     """The first error of ``exc`` as ``key.path: message`` (every unknown key of one mapping
-    named at once; ``known_of(loc)``: the keys that mapping may hold, for the hint)."""
+    named at once; ``known_of(loc)``: the keys that mapping may hold, for the hint, a list
+    or a :class:`Known`)."""
     errors = exc.errors()
     unknown = _unknown(errors, prefix, known_of)
     if unknown is not None:

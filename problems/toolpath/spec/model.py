@@ -3,8 +3,9 @@
 It is composed from the registries' own settings models: the surface (``geometry/registry.py``,
 a discriminated union on ``type``), the tools (``spec/tools.py``, each a registered cutter),
 the zoning method (``spec/zoning.py``), the pass layout (``plan/strategies``), the machine
-(``plan/orientation.py``), the criteria (``criteria/table.py``) and the machine's dynamics
-(``criteria/kinematic_time.py``). :meth:`ToolpathSpec.from_params` turns plain data into the
+(``plan/orientation.py``), the criteria (``criteria/table.py``), the cut simulation's
+settings (``criteria/simulated.py``, with its screening's in ``criteria/screening.py``) and
+the machine's dynamics (``criteria/kinematic_time.py``). :meth:`ToolpathSpec.from_params` turns plain data into the
 model with a one-line ``ValueError`` that starts with the key path
 (``zoning.method: expected one of single, kmeans, amas, got 'kmean'``); ``ToolpathProblem``
 builds from the model. The genes' ``ranges`` and ``fixed`` values are checked against the
@@ -24,13 +25,15 @@ from pydantic.json_schema import SkipJsonSchema
 from ..checks import number
 from ..criteria.kinematic_time import Dynamics
 from ..criteria.objective import parse_bounds, parse_objectives, parse_weights
+from ..criteria.screening import ScreeningSettings
+from ..criteria.simulated import SimulationSettings
 from ..geometry.registry import settings_for, surface_union
 from ..geometry.surface import Surface
 from ..plan.orientation import MACHINES
 from ..plan.planner import SPACINGS
 from ..plan.strategies import STRATEGIES, get_strategy
 from ..plan.zones import DEFAULT_H_C
-from .errors import HERE, one_line
+from .errors import HERE, Known, one_line
 from .fields import NonNegative, Positive
 from .tools import ToolList
 from .zoning import ZoningSettings
@@ -148,9 +151,9 @@ class ToolpathSpec(BaseModel):
     criteria: Annotated[Literal["analytic", "simulated"], BeforeValidator(_criteria),
                         Field(description="simulated: scallop, gouge and machining error "
                               "measured by the cut simulation")] = "analytic"
-    simulation: Annotated[dict[str, Any] | None, BeforeValidator(_mapping("of settings")),
-                          Field(description="criteria: simulated only: {grid_mm, rays, "
-                                "allowance, threads, screening}")] = None
+    simulation: Annotated[SimulationSettings | None, BeforeValidator(_mapping("of settings")),
+                          Field(description="criteria: simulated only: how the cut simulation "
+                                "measures a plan (the defaults when absent)")] = None
 
     @model_validator(mode="after")
     def _together(self):
@@ -203,5 +206,9 @@ def _known_keys(loc) -> list[str] | None:
     if loc[:1] == ("tools",):
         from .tools import ToolSettings
         return list(ToolSettings.model_fields)
+    settings = {("simulation",): SimulationSettings,
+                ("simulation", "screening"): ScreeningSettings}.get(tuple(loc))
+    if settings is not None:
+        return Known.settings(settings)
     model = {("zoning",): ZoningSettings, ("dynamics",): Dynamics}.get(tuple(loc))
     return None if model is None else list(model.model_fields)

@@ -148,3 +148,42 @@ def test_simulate_cuts_an_nc_program_with_a_tapered_ball(tmp_path, capsys):
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "--tool 'tapered_ball:8,1': tool.taper_angle: missing" in err[0]
     assert not (tmp_path / "c").exists()
+
+
+SIM = {"criteria": "simulated"}
+
+
+@pytest.mark.parametrize("simulation,line", [
+    ({"rays": "x"}, "simulation.rays: expected normal or vertical, got 'x'"),
+    ({"grid_mm": 0}, "simulation.grid_mm: must be a positive number of mm"),
+    ({"grid_mm": "fine"}, "simulation.grid_mm: must be a positive number of mm"),
+    ({"allowance": -1}, "simulation.allowance: must be a positive number of mm"),
+    ({"threads": 1.5}, "simulation.threads: expected a whole number of threads >= 1, got 1.5"),
+    ({"colour": 1}, "simulation.colour: unknown setting (known: allowance, grid_mm, rays, screening, threads)"),
+    (5, "simulation: expected a mapping of settings, got 5"),
+    ({"screening": 0.25}, "simulation.screening: expected a mapping (fraction, correction, neighbours), got 0.25"),
+    ({"screening": {"share": 1}}, "simulation.screening.share: unknown setting (known: correction, fraction, neighbours)"),
+    ({"screening": {"neighbours": True}}, "simulation.screening.neighbours: expected a whole number >= 1, got True"),
+])
+def test_bad_simulation_settings_are_one_line_naming_the_key(simulation, line):
+    assert _error(**SIM, simulation=simulation) == line
+
+
+def test_the_simulation_settings_are_typed_in_the_spec_and_the_criteria_take_them():
+    from evoplan.problems.toolpath.criteria.screening import ScreeningSettings
+    from evoplan.problems.toolpath.criteria.simulated import SimulatedCriteria, SimulationSettings
+
+    spec = ToolpathSpec.from_params({**SIM, "simulation": {"grid_mm": 2, "rays": "vertical",
+                                                           "screening": {"fraction": 0.5}}})
+    assert isinstance(spec.simulation, SimulationSettings) and spec.simulation.grid_mm == 2.0
+    assert spec.simulation.screening == ScreeningSettings(fraction=0.5)
+    problem = ToolpathProblem(spec)
+    sim = problem.simulated
+    assert sim.settings is spec.simulation and sim.vertical and sim.grid_mm == 2.0
+    assert sim.screening.fraction == 0.5 and sim.screening.correction == "nearest"
+    assert ToolpathProblem(**SIM, fixed=FIXED).simulated.settings == SimulationSettings()
+    # a plain mapping given to the criteria directly is validated by the same model
+    assert SimulatedCriteria(None, {"grid_mm": 2, "rays": "vertical",
+                                    "screening": {"fraction": 0.5}}).settings == spec.simulation
+    with pytest.raises(ValueError, match=r"^simulation\.rays: expected normal or vertical"):
+        SimulatedCriteria(None, {"rays": "sideways"})
