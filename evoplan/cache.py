@@ -19,10 +19,11 @@ Failed evaluations (``inf``) are not stored: a crash may be transient, so it is 
 
 **Vectorized.** A genotype is packed into one fixed-width key (up to 48 bits: an exact
 integer code; up to 64 bits: one ``uint64``; wider: one ``np.void`` of its bytes). Keys of up
-to 64 bits live in a compiled open-addressing table (:mod:`evoplan.key_index`): a batch of
-boolean genotypes is coded, looked up and its repeats found in one compiled pass, and stored
-in another; no Python object per row. Wider keys use a dictionary of ``bytes``, one C-level
-pass a batch. Profile (pyinstrument, Kubota, GA pop 2000 x 40, ten runs, old and new code in one
+to 64 bits live in a compiled open-addressing table (:mod:`evoplan.key_index`) once it pays
+(:mod:`evoplan.compiled`: numba loaded, or enough rows put through): a batch of boolean
+genotypes is coded, looked up and its repeats found in one compiled pass, and stored in
+another; no Python object per row. Until then, and for wider keys, the index is a dictionary
+(Python ints, or ``bytes``), one C-level pass a batch; the table takes over its entries. Profile (pyinstrument, Kubota, GA pop 2000 x 40, ten runs, old and new code in one
 sitting): with a dictionary of Python ints the cache held 0.76 of 1.79 s (look-up 0.47, store
 0.29); with the compiled table 0.15 of 0.82 s (look-up 0.11, store 0.03).
 ``runs/bench/floor.py`` times it against a plain numpy GA.
@@ -40,6 +41,8 @@ from typing import Any, Literal
 
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
+
+from .compiled import use_compiled
 
 Budget = Literal["distinct", "all"]
 
@@ -122,9 +125,10 @@ def first_occurrence(keys: list) -> np.ndarray:
     return np.fromiter(map(seen.__getitem__, keys), dtype=np.intp, count=n)
 
 
-class BytesIndex:
-    """Key -> slot for keys wider than 8 bytes (``bytes``): a dictionary, one C-level pass per
-    batch; the interface of :class:`evoplan.key_index.KeyIndex`."""
+class DictIndex:
+    """Key -> slot in a dictionary, one C-level pass per batch; the interface of
+    :class:`evoplan.key_index.KeyIndex`. Keys are ``bytes`` (a list: genotypes wider than 8
+    bytes) or ``int64`` keys (an array, held as Python ints until the compiled table pays)."""
 
     def __init__(self) -> None:
         self._dict: dict = {}
@@ -132,10 +136,18 @@ class BytesIndex:
     def __len__(self) -> int:
         return len(self._dict)
 
-    def get(self, keys: list) -> np.ndarray:
+    def items(self) -> tuple[np.ndarray, np.ndarray]:
+        """``(keys, slots)`` of ``int64`` entries (for the compiled table taking them over)."""
+        n = len(self._dict)
+        return (np.fromiter(self._dict.keys(), dtype=np.int64, count=n),
+                np.fromiter(self._dict.values(), dtype=np.int64, count=n))
+
+    def get(self, keys) -> np.ndarray:
+        keys = _python(keys)
         return np.fromiter(map(self._dict.get, keys, repeat(-1)), dtype=np.intp, count=len(keys))
 
-    def lookup(self, keys: list) -> tuple[np.ndarray, np.ndarray]:
+    def lookup(self, keys) -> tuple[np.ndarray, np.ndarray]:
+        keys = _python(keys)
         n = len(keys)
         slot = self.get(keys) if self._dict else np.full(n, -1)
         first = np.arange(n)
@@ -144,21 +156,32 @@ class BytesIndex:
             first[miss] = miss[first_occurrence([keys[i] for i in miss])]
         return slot, first
 
-    def update(self, keys: list, slots: np.ndarray) -> None:
-        self._dict.update(zip(keys, slots.tolist()))
+    def lookup_rows(self, G: np.ndarray, exponents: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """``(codes, slot, first)`` of boolean rows keyed by ``sum_j G[i, j] 2 ** exponents[j]``."""
+        codes = (G @ np.ldexp(1.0, exponents)).astype(np.int64)
+        return (codes, *self.lookup(codes))
 
-    def remove(self, keys: list) -> None:
-        deque(map(self._dict.pop, keys), maxlen=0)
+    def update(self, keys, slots: np.ndarray) -> None:
+        self._dict.update(zip(_python(keys), slots.tolist()))
+
+    def remove(self, keys) -> None:
+        deque(map(self._dict.pop, _python(keys)), maxlen=0)
 
 
-def new_index(width: int, expected: int = 0):
-    """The index for keys of ``width`` bytes (``expected`` of them, likely): compiled for up to
-    8 bytes, else a dictionary."""
-    if width <= 8:
-        from .key_index import KeyIndex  # numba: imported only when a run has a cache
+def _python(keys):
+    """An ``int64`` key array as a list of Python ints (a list of ``bytes`` as it is)."""
+    return keys.tolist() if isinstance(keys, np.ndarray) else keys
+
+
+def new_index(width: int, expected: int = 0, rows: int = 0):
+    """The index for keys of ``width`` bytes (``expected`` of them, likely), before a batch
+    of ``rows``: the compiled table for up to 8 bytes once it pays (:func:`use_compiled`),
+    else a dictionary."""
+    if width <= 8 and use_compiled(rows):
+        from .key_index import KeyIndex  # numba: imported only when it pays
 
         return KeyIndex(expected)
-    return BytesIndex()
+    return DictIndex()
 
 
 class EvaluationCache:
@@ -174,7 +197,7 @@ class EvaluationCache:
         self.next = 0  # slot the next entry goes to (once the table is full: the oldest entry)
         self.hits = 0
         self.misses = 0
-        self._index = BytesIndex()  # key -> slot (replaced by the first batch's :func:`new_index`)
+        self._index = DictIndex()  # key -> slot (replaced by the first batch's :func:`new_index`)
         self._exponents = np.zeros(0, dtype=np.int64)  # locus j of a coded genotype weighs 2 ** j
 
     @classmethod
@@ -205,7 +228,9 @@ class EvaluationCache:
         if not self.width:
             self.width = -(-G.shape[1] // 8) if coded else pack(G[:1]).shape[1]
             self.codes = np.zeros(0, dtype=key_dtype(self.width))
-            self._index = new_index(self.width, self.size)
+            self._index = new_index(self.width, self.size, len(G))
+        elif self.width <= 8 and isinstance(self._index, DictIndex) and use_compiled(len(G)):
+            self._index = _compiled_from(self._index, self.size)
         if coded:  # codes computed and looked up in one compiled pass
             if self._exponents.size != G.shape[1]:
                 self._exponents = np.arange(G.shape[1])
@@ -278,7 +303,7 @@ class EvaluationCache:
             rows = rows.reshape(values.size, -1)
             cache.width = rows.shape[1]
             cache.codes, cache.values = to_keys(rows), values.copy()
-            cache._index = new_index(cache.width, cache.size)
+            cache._index = new_index(cache.width, cache.size, values.size)
             cache._index.update(index_keys(cache.codes), np.arange(values.size))
         return cache
 
@@ -287,3 +312,12 @@ class EvaluationCache:
 
     def __setstate__(self, data: dict[str, Any]) -> None:
         self.__dict__.update(EvaluationCache.from_data(data).__dict__)
+
+
+def _compiled_from(index: DictIndex, expected: int):
+    """The compiled table holding a dictionary index's ``int64`` entries."""
+    from .key_index import KeyIndex
+
+    table = KeyIndex(expected)
+    table.update(*index.items())
+    return table

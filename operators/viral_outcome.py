@@ -1,19 +1,23 @@
-"""One infection round of the virus-evolutionary GA in two compiled passes: the infected
-hosts (:func:`infect_pairs`) and the round's outcome (:func:`infection_outcome`).
+"""One infection round of the virus-evolutionary GA: the infected hosts (:func:`infect_pairs`)
+and the round's outcome (:func:`infection_outcome`).
 
 After the infected hosts are evaluated, VEGA needs, per host, its best infected version
 (rule 3, replacement) and, per virus, its Eq. 12 fitness, whether it infected anyone and the
-infection that improved its host most (rules 4-6). :func:`infection_outcome` computes all of
-them from the infection pairs in one loop (numba): the same numbers as the (virus x host)
-matrices, ``argmin`` / ``argmax`` and ``bincount`` of the numpy form, bit for bit (the pairs
-come sorted by virus, then host, as ``np.nonzero`` gives them, so "first" means the same),
-without a dozen small-array numpy calls per generation.
+infection that improved its host most (rules 4-6). Both functions have two forms with the
+same numbers, bit for bit: numpy (reverse transcription by :func:`viral.infect`, then the
+outcome from (virus x host) matrices) and compiled (:mod:`evoplan.operators.viral_kernels`,
+one loop over the pairs). The compiled form is taken once it pays for loading numba
+(:func:`evoplan.compiled.use_compiled`).
 """
 
 from __future__ import annotations
 
-import numba
 import numpy as np
+
+from ..compiled import use_compiled
+from . import viral
+
+__all__ = ["infect_pairs", "infection_outcome", "outcome_matrices"]
 
 
 def infect_pairs(G, host, virus, start, length, bits):
@@ -23,64 +27,56 @@ def infect_pairs(G, host, virus, start, length, bits):
     length)`` of virus ``virus[p]`` overwritten by its ``bits``, exactly
     :func:`evoplan.operators.viral.infect`; ``changed: (P,)`` whether that altered a bit.
     """
-    trials = G[host]  # (a copy; numpy gathers rows faster than a compiled row loop)
-    return trials, _transcribe(trials, virus, start, length, bits)
+    if use_compiled(virus.size):
+        from .viral_kernels import transcribe
+
+        trials = G[host]  # (a copy; numpy gathers rows faster than a compiled row loop)
+        return trials, transcribe(trials, virus, start, length, bits)
+    trials = viral.infect(G, host, virus, start, length, bits)
+    return trials, (trials != G[host]).any(axis=1)
 
 
-@numba.njit(cache=True)
-def _transcribe(trials, virus, start, length, bits):
-    """Overwrite each row's virus loci in place; whether a bit changed, per row."""
-    changed = np.zeros(trials.shape[0], dtype=np.bool_)
-    for p in range(trials.shape[0]):
-        v = virus[p]
-        for k in range(start[v], start[v] + length[v]):
-            if trials[p, k] != bits[v, k]:
-                trials[p, k] = bits[v, k]
-                changed[p] = True
-    return changed
-
-
-@numba.njit(cache=True)
 def infection_outcome(virus, host, changed, f_trial, f_host, n_viruses, improve):
     """One infection round's outcome.
 
-    ``virus, host: (P,)`` the pairs (sorted by virus, then host); ``changed: (P,)`` whether
-    the trial differs from its host; ``f_trial: (P,)`` each trial's value (the host's where
-    unchanged); ``f_host: (N,)`` the hosts' values; ``improve``: replace only by a better trial.
+    ``virus, host: (P,)`` the pairs (sorted by virus, then host, as ``np.nonzero`` gives
+    them); ``changed: (P,)`` whether the trial differs from its host; ``f_trial: (P,)`` each
+    trial's value (the host's where unchanged); ``f_host: (N,)`` the hosts' values;
+    ``improve``: replace only by a better trial.
 
     Returns ``(take, best, best_f, fitvirus, infected, best_pair)``: ``take: (N,)`` the hosts
     replaced by their best trial ``best: (N,)`` (a pair index) of value ``best_f: (N,)`` (the
-    first lowest value over the viruses; a failed (non-finite) best never replaces);
-    ``fitvirus: (V,)`` Fountas Eq. 12, the sum of the Eq. 11 gains ``f(host) - f(trial)``
-    (0 for an unchanged trial or a non-finite gain); ``infected: (V,)``; ``best_pair: (V,)``
-    the pair of each virus with the largest gain (the first such host; -1 if none).
+    first lowest value over the viruses; a failed (non-finite) best never replaces; ``best``
+    and ``best_f`` are meant only where ``take``); ``fitvirus: (V,)`` Fountas Eq. 12, the sum
+    of the Eq. 11 gains ``f(host) - f(trial)`` (0 for an unchanged trial or a non-finite
+    gain); ``infected: (V,)``; ``best_pair: (V,)`` the pair of each virus with the largest
+    gain (the first such host; -1 if none).
     """
-    P, N = virus.size, f_host.size
-    best = np.full(N, -1, dtype=np.int64)
-    best_f = np.full(N, np.inf)
-    poisoned = np.zeros(N, dtype=np.bool_)  # a NaN value: numpy's argmin would pick it
-    fitvirus = np.zeros(n_viruses)
-    infected = np.zeros(n_viruses, dtype=np.bool_)
-    best_pair = np.full(n_viruses, -1, dtype=np.int64)
-    best_gain = np.full(n_viruses, -np.inf)
-    for p in range(P):
-        v, j, f = virus[p], host[p], f_trial[p]
-        if np.isnan(f):
-            poisoned[j] = True
-        elif f < best_f[j]:
-            best_f[j], best[j] = f, p
-        gain = 0.0
-        if changed[p]:
-            gain = f_host[j] - f
-            if not np.isfinite(gain):
-                gain = 0.0
-        fitvirus[v] += gain
-        infected[v] = True
-        if gain > best_gain[v]:
-            best_gain[v], best_pair[v] = gain, p
-    take = np.zeros(N, dtype=np.bool_)
-    for j in range(N):
-        take[j] = best[j] >= 0 and not poisoned[j] and np.isfinite(best_f[j])
-        if improve and take[j]:
-            take[j] = best_f[j] < f_host[j]
-    return take, best, best_f, fitvirus, infected, best_pair
+    if use_compiled():
+        from .viral_kernels import infection_outcome as compiled
+
+        return compiled(virus, host, changed, f_trial, f_host, n_viruses, improve)
+    return outcome_matrices(virus, host, changed, f_trial, f_host, n_viruses, improve)
+
+
+def outcome_matrices(virus, host, changed, f_trial, f_host, n_viruses, improve):
+    """:func:`infection_outcome` in numpy: rule 3 as an ``argmin`` over the viruses of a
+    (virus x host) matrix of values, Eq. 11-12 as a ``bincount`` of the gains, each virus's
+    best infection as an ``argmax`` over its hosts."""
+    V, N = n_viruses, f_host.size
+    trial = np.full((V, N), -1)
+    trial[virus, host] = np.arange(virus.size)
+    F = np.full((V, N), np.inf)
+    F[virus, host] = f_trial
+    gain = np.where(changed, viral.infection_gain(f_host[host], f_trial), 0.0)
+    best_virus = F.argmin(axis=0)  # a NaN value is picked first, and then never taken
+    cols = np.arange(N)
+    best, best_f = trial[best_virus, cols], F[best_virus, cols]
+    take = (best >= 0) & np.isfinite(best_f)
+    if improve:
+        take &= best_f < f_host
+    G = np.full((V, N), -np.inf)
+    G[virus, host] = gain
+    infected = (trial >= 0).any(axis=1)
+    best_pair = np.where(infected, trial[np.arange(V), G.argmax(axis=1)], -1)
+    return take, best, best_f, viral.virus_fitness(gain, virus, V), infected, best_pair

@@ -10,7 +10,12 @@ run engine (`evoplan.runner.prepare` + `evoplan.engine.run`, the evaluation cach
 rounds and the ratios are medians of the per-round ratios of process CPU time (the host may
 be shared: CPU time is less disturbed by other processes than wall time).
 
-    python runs/bench/floor.py [--repeat 7] [--sizes 200x200,2000x40]
+evoplan's cache index and VEGA's infection round each have a numpy and a compiled form
+(``evoplan/compiled.py`` says which a run takes): ``--compiled both`` (the default) times
+each of GA and VEGA in both forms in the same rounds, and prints beside them what loading
+numba and dispatching the compiled forms costs once, in a fresh interpreter.
+
+    python runs/bench/floor.py [--repeat 7] [--sizes 200x200,2000x40] [--compiled both|always|never]
 
 Not a test: it prints measured figures.
 """
@@ -18,10 +23,13 @@ Not a test: it prints measured figures.
 from __future__ import annotations
 
 import argparse
+import subprocess
+import sys
 import time
 
 import numpy as np
 
+from evoplan import compiled
 from evoplan.config import parse_config
 from evoplan.engine import run
 from evoplan.runner import prepare
@@ -91,32 +99,75 @@ def timed(fn, *args):
     return time.process_time() - t0, out
 
 
+LOAD = """
+import time
+import numpy as np
+from evoplan import compiled
+from evoplan.cache import EvaluationCache
+from evoplan.operators.viral_outcome import infect_pairs, infection_outcome
+compiled.set_mode("always")
+t0 = time.process_time()
+G = np.random.default_rng(0).random((50, 46)) < 0.5
+cache = EvaluationCache(100)
+keys, _, _ = cache.lookup(G)
+cache.store(keys, np.zeros(50))
+v, h = np.array([0, 1]), np.array([3, 4])
+trials, changed = infect_pairs(G, h, v, np.array([0, 2]), np.array([3, 3]), G[:2].copy())
+infection_outcome(v, h, changed, np.zeros(2), np.zeros(50), 2, True)
+print(time.process_time() - t0)
+"""
+
+
+def numba_load_seconds() -> float:
+    """CPU seconds a fresh interpreter spends loading numba and dispatching the core's
+    compiled forms (from numba's on-disk cache) the first time."""
+    out = subprocess.run([sys.executable, "-c", LOAD], capture_output=True, text=True, check=True)
+    return float(out.stdout)
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeat", type=int, default=7)
     ap.add_argument("--sizes", default="200x200,2000x40", help="POPxGENERATIONS, comma-separated")
     ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--compiled", choices=("both", "always", "never"), default="both",
+                    help="the forms of the cache index and VEGA's round to time")
     args = ap.parse_args()
+    modes = ("never", "always") if args.compiled == "both" else (args.compiled,)
     print("process CPU seconds; ratios are medians over interleaved rounds in this one process")
+    if "always" in modes:
+        loads = [numba_load_seconds() for _ in range(3)]
+        print(f"loading numba + the first dispatch of the compiled forms, fresh interpreter: "
+              f"{np.median(loads):.2f} s (of 3: {', '.join(f'{x:.2f}' for x in loads)})")
     for size in args.sizes.split(","):
         pop, gens = map(int, size.lower().split("x"))
-        evoplan_run("ga", 20, 2, 0), evoplan_run("vega", 20, 2, 0), floor_ga(20, 2, 0)  # warm-up
-        t_floor, t_ga, t_vega = [], [], []
+        t_floor, t = [], {(m, a): [] for m in modes for a in ("ga", "vega")}
+        for mode in modes:  # warm-up
+            compiled.set_mode(mode)
+            evoplan_run("ga", 20, 2, 0), evoplan_run("vega", 20, 2, 0), floor_ga(20, 2, 0)
         for r in range(args.repeat):
             seed = args.seed + r
             tf, best_floor = timed(floor_ga, pop, gens, seed)
-            tg, sg = timed(evoplan_run, "ga", pop, gens, seed)
-            tv, sv = timed(evoplan_run, "vega", pop, gens, seed)
-            if best_floor != sg.best_f:
-                print(f"  warning: seed {seed}: floor best {best_floor!r} != evoplan GA best {sg.best_f!r}")
-            t_floor.append(tf), t_ga.append(tg), t_vega.append(tv)
-        tf, tg, tv = map(np.asarray, (t_floor, t_ga, t_vega))
+            t_floor.append(tf)
+            for mode in modes:
+                compiled.set_mode(mode)
+                for algorithm in ("ga", "vega"):
+                    dt, state = timed(evoplan_run, algorithm, pop, gens, seed)
+                    t[mode, algorithm].append(dt)
+                    if algorithm == "ga" and best_floor != state.best_f:
+                        print(f"  warning: seed {seed}: floor best {best_floor!r} != evoplan GA best "
+                              f"{state.best_f!r}")
+        compiled.set_mode("auto")
+        tf = np.asarray(t_floor)
         print(f"pop {pop} x {gens} generations, {args.repeat} rounds:")
-        print(f"  floor  median {np.median(tf):.4f} s")
-        print(f"  GA     median {np.median(tg):.4f} s   GA/floor  median {np.median(tg / tf):.2f}x "
-              f"(range {np.min(tg / tf):.2f}-{np.max(tg / tf):.2f})   evaluations {sg.evaluations}")
-        print(f"  VEGA   median {np.median(tv):.4f} s   VEGA/GA   median {np.median(tv / tg):.2f}x "
-              f"(range {np.min(tv / tg):.2f}-{np.max(tv / tg):.2f})   evaluations {sv.evaluations}")
+        print(f"  floor            median {np.median(tf):.4f} s")
+        for mode in modes:
+            tg, tv = np.asarray(t[mode, "ga"]), np.asarray(t[mode, "vega"])
+            form = "numpy" if mode == "never" else "compiled"
+            print(f"  GA, {form:8s}    median {np.median(tg):.4f} s   GA/floor  median "
+                  f"{np.median(tg / tf):.2f}x (range {np.min(tg / tf):.2f}-{np.max(tg / tf):.2f})")
+            print(f"  VEGA, {form:8s}  median {np.median(tv):.4f} s   VEGA/GA   median "
+                  f"{np.median(tv / tg):.2f}x (range {np.min(tv / tg):.2f}-{np.max(tv / tg):.2f})")
 
 
 if __name__ == "__main__":

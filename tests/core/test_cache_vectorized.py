@@ -1,9 +1,17 @@
-"""The vectorized cache against the per-row dictionary cache it replaced: same runs, same hits."""
+"""The vectorized cache against the per-row dictionary cache it replaced: same runs, same hits,
+with its index a dictionary, the compiled table, or the dictionary the table takes over from
+in the middle of a run."""
+
+import itertools
 
 import numpy as np
 import pytest
 
-from evoplan.cache import EvaluationCache, pack
+from evoplan import cache as cache_module
+from evoplan import compiled
+from evoplan.cache import DictIndex, EvaluationCache, pack
+from evoplan.key_index import KeyIndex
+from evoplan.operators import viral_outcome
 from evoplan.config import parse_config
 from evoplan.engine import run
 from evoplan.runner import prepare
@@ -40,6 +48,22 @@ class RowDictCache(EvaluationCache):
         return len(self.table)
 
 
+@pytest.fixture(params=["never", "always", "switch"])
+def index_mode(request, monkeypatch):
+    """The cache's index (and VEGA's round) numpy, compiled, or numpy for the first batches
+    and compiled from the fifth on (the table takes over the dictionary's entries)."""
+    if request.param == "switch":
+        calls = itertools.count()
+        switch = lambda rows=0: next(calls) >= 5  # noqa: E731
+        monkeypatch.setattr(cache_module, "use_compiled", switch)
+        monkeypatch.setattr(viral_outcome, "use_compiled", switch)
+        yield request.param
+        return
+    previous = compiled.set_mode(request.param)
+    yield request.param
+    compiled.set_mode(previous)
+
+
 def reference(size):
     cache = RowDictCache(size)
     cache.table = {}
@@ -61,8 +85,13 @@ def runs(algorithm: str, size: int, bits: int, gens: int = 30, population: int =
 @pytest.mark.parametrize("algorithm", ["ga", "vega"])
 @pytest.mark.parametrize("size, bits, population", [(100_000, 23, 30), (100_000, 5, 30), (40, 5, 30), (0, 5, 30),
                                                     (100_000, 40, 30), (100_000, 6, 150), (500, 8, 150)])
-def test_same_runs_bit_for_bit_and_same_hits_as_the_row_by_row_cache(algorithm, size, bits, population):
+def test_same_runs_bit_for_bit_and_same_hits_as_the_row_by_row_cache(algorithm, size, bits, population,
+                                                                     index_mode):
     new, old = runs(algorithm, size, bits, population=population)  # 150: batches past the dict pass
+    if size and bits <= 32:  # keys of up to 8 bytes: the index the mode says
+        compiled_index = isinstance(new.cache._index, KeyIndex)
+        assert compiled_index == (index_mode != "never")
+        assert compiled_index or isinstance(new.cache._index, DictIndex)
     strip = lambda st: [row[:8] for row in st.history]  # noqa: E731 - all but the seconds
     assert strip(new) == strip(old)
     assert new.best_f == old.best_f and (new.best_g == old.best_g).all()

@@ -1,0 +1,75 @@
+"""VEGA's infection round compiled (numba): reverse transcription with its "changed" flags
+(:func:`transcribe`) and the round's outcome (:func:`infection_outcome`).
+
+:mod:`evoplan.operators.viral_outcome` calls these once they pay (:mod:`evoplan.compiled`),
+and its numpy matrix form otherwise: the same numbers, bit for bit. The outcome is computed
+from the infection pairs in one loop instead of (virus x host) matrices, ``argmin`` /
+``argmax`` and ``bincount`` (the pairs come sorted by virus, then host, as ``np.nonzero``
+gives them, so "first" means the same), without a dozen small-array numpy calls per
+generation.
+"""
+
+from __future__ import annotations
+
+import numba
+import numpy as np
+
+
+@numba.njit(cache=True)
+def transcribe(trials, virus, start, length, bits):
+    """Overwrite the loci ``[start, start + length)`` of virus ``virus[p]`` in row ``p`` of
+    ``trials`` by its ``bits``, in place; whether a bit changed, per row."""
+    changed = np.zeros(trials.shape[0], dtype=np.bool_)
+    for p in range(trials.shape[0]):
+        v = virus[p]
+        for k in range(start[v], start[v] + length[v]):
+            if trials[p, k] != bits[v, k]:
+                trials[p, k] = bits[v, k]
+                changed[p] = True
+    return changed
+
+
+@numba.njit(cache=True)
+def infection_outcome(virus, host, changed, f_trial, f_host, n_viruses, improve):
+    """One infection round's outcome.
+
+    ``virus, host: (P,)`` the pairs (sorted by virus, then host); ``changed: (P,)`` whether
+    the trial differs from its host; ``f_trial: (P,)`` each trial's value (the host's where
+    unchanged); ``f_host: (N,)`` the hosts' values; ``improve``: replace only by a better trial.
+
+    Returns ``(take, best, best_f, fitvirus, infected, best_pair)``: ``take: (N,)`` the hosts
+    replaced by their best trial ``best: (N,)`` (a pair index) of value ``best_f: (N,)`` (the
+    first lowest value over the viruses; a failed (non-finite) best never replaces);
+    ``fitvirus: (V,)`` Fountas Eq. 12, the sum of the Eq. 11 gains ``f(host) - f(trial)``
+    (0 for an unchanged trial or a non-finite gain); ``infected: (V,)``; ``best_pair: (V,)``
+    the pair of each virus with the largest gain (the first such host; -1 if none).
+    """
+    P, N = virus.size, f_host.size
+    best = np.full(N, -1, dtype=np.int64)
+    best_f = np.full(N, np.inf)
+    poisoned = np.zeros(N, dtype=np.bool_)  # a NaN value: numpy's argmin would pick it
+    fitvirus = np.zeros(n_viruses)
+    infected = np.zeros(n_viruses, dtype=np.bool_)
+    best_pair = np.full(n_viruses, -1, dtype=np.int64)
+    best_gain = np.full(n_viruses, -np.inf)
+    for p in range(P):
+        v, j, f = virus[p], host[p], f_trial[p]
+        if np.isnan(f):
+            poisoned[j] = True
+        elif f < best_f[j]:
+            best_f[j], best[j] = f, p
+        gain = 0.0
+        if changed[p]:
+            gain = f_host[j] - f
+            if not np.isfinite(gain):
+                gain = 0.0
+        fitvirus[v] += gain
+        infected[v] = True
+        if gain > best_gain[v]:
+            best_gain[v], best_pair[v] = gain, p
+    take = np.zeros(N, dtype=np.bool_)
+    for j in range(N):
+        take[j] = best[j] >= 0 and not poisoned[j] and np.isfinite(best_f[j])
+        if improve and take[j]:
+            take[j] = best_f[j] < f_host[j]
+    return take, best, best_f, fitvirus, infected, best_pair
