@@ -27,53 +27,40 @@ from typing import Callable
 import numpy as np
 from pymoo.core.variable import Choice, Integer, Real
 
-from .checks import interval, number
+from .checks import number
+from .spec.genes import DEFAULT_RANGES
 
 __all__ = ["GENE_ORDER", "PARAM_NAMES", "DEFAULT_RANGES", "GeneSpace"]
 
 GENE_ORDER = ("tool", "stepover", "lead", "tilt", "step")
 PARAM_NAMES = GENE_ORDER
-DEFAULT_RANGES = {"stepover": (20.0, 45.0), "lead": (0.0, 5.0), "tilt": (0.0, 2.0),
-                  "step": (5.0, 10.0)}
-
-
-def _check_value(name: str, x: float, key: str) -> None:
-    """A value's physical validity (any range or fixed value of the gene must pass)."""
-    if name in ("stepover", "step") and not x > 0:
-        raise ValueError(f"{key}: must be > 0, got {x:g}")
-    if name == "stepover" and x > 100:
-        raise ValueError(f"{key}: a step-over above 100 % of D leaves material uncut, got {x:g}")
-    if name in ("lead", "tilt") and not -90 < x < 90:
-        raise ValueError(f"{key}: angles must lie in (-90, 90) degrees, got {x:g}")
-
 
 
 def _points_as_fixed(ranges, fixed):
     """(ranges, fixed) with every one-point range ``name: [v, v]`` moved to ``fixed`` (that
-    gene then has one value: the plan is given, not searched); a gene with both is left for
-    the usual one-line error."""
-    if not isinstance(ranges, dict) or not (fixed is None or isinstance(fixed, dict)):
-        return ranges, fixed  # the usual errors name what is wrong
-    points = {}
-    for name, value in ranges.items():
+    gene then has one value: the plan is given, not searched)."""
+    ranges, fixed = dict(ranges or {}), dict(fixed or {})
+    for name, value in list(ranges.items()):
         try:
             lo, hi = (float(x) for x in value)
         except (TypeError, ValueError):
             continue
-        if lo == hi and np.isfinite(lo) and name not in (fixed or {}):
-            points[name] = value[0]
-    if not points:
-        return ranges, fixed
-    return {k: v for k, v in ranges.items() if k not in points}, {**(fixed or {}), **points}
+        if lo == hi and np.isfinite(lo):
+            fixed[name] = ranges.pop(name)[0]
+    return ranges, fixed
 
 
 class GeneSpace:
     """The genes of one configuration: ranges, fixed values, chromosome and decoding.
 
     ``names``: the genes the plan reads (chromosome order); ``tools``: the tool database;
-    ``ranges`` / ``fixed``: the YAML mappings; ``absent``: gene -> why this configuration has
-    no such gene (for one-line errors); ``zone_gene``: the zoning method's gene (``Gene``) or
-    None, with ``zone_range(value) -> (lo, hi)`` and ``zone_value(value)`` its checks.
+    ``ranges`` / ``fixed``: the specification's mappings, whose values it has checked
+    (``spec/genes.py``: the continuous genes' values, the tool never a range, no gene both
+    ranged and fixed); ``absent``: gene -> why this configuration has no such gene (for
+    one-line errors); ``zone_gene``: the zoning method's gene (``Gene``) or None, with
+    ``zone_range(value) -> (lo, hi)`` and ``zone_value(value)`` its checks. Checked here is
+    what depends on the configuration: which genes exist, the zone gene's values, the tool
+    ids, the strategy names.
     """
 
     def __init__(self, names, tools, ranges=None, fixed=None, absent=None, zone_gene=None,
@@ -107,8 +94,6 @@ class GeneSpace:
     def _fixed(self, spec, absent, known, zone_gene, zone_value) -> dict[str, float]:
         if spec is None:
             return {}
-        if not isinstance(spec, dict):
-            raise ValueError(f"fixed: expected a mapping gene -> value, got {spec!r}")
         out = {}
         for name, value in spec.items():
             key = f"fixed.{name}"
@@ -132,46 +117,30 @@ class GeneSpace:
                 if zone_gene.integer and x != int(x):
                     raise ValueError(f"{key}: expected an integer, got {value!r}")
                 zone_value(x, key)
-            _check_value(name, x, key)
             out[name] = x
         return out
 
     def _ranges(self, spec, absent, known, zone_gene, zone_range) -> dict:
-        if spec is not None and not isinstance(spec, dict):
-            raise ValueError(f"ranges: expected a mapping gene -> [lo, hi], got {spec!r}")
         spec = dict(spec or {})
         for name in spec:
             key = f"ranges.{name}"
             if name not in self.names:
                 raise self._unknown(name, key, absent, known)
-            if name == "tool":
-                raise ValueError(f"{key}: the tool is a choice over the tool database (list "
-                                 f"fewer tools, or fix one with fixed: {{tool: ID}})")
             if name in self.choices:
                 raise ValueError(f"{key}: {name} is a choice among "
                                  f"{', '.join(self.choices[name])} (fix one with fixed: "
                                  f"{{{name}: NAME}})")
-            if name in self.fixed:
-                raise ValueError(f"{key}: {name} is fixed (fixed.{name}); give a range or a "
-                                 f"fixed value, not both")
-            if isinstance(spec[name], (int, float)) and not isinstance(spec[name], bool):
-                raise ValueError(f"{key}: expected [lo, hi], got {spec[name]!r} (to fix a gene, "
-                                 f"write fixed: {{{name}: {spec[name]!r}}})")
         out = {}
         for name in self.names:
             if name == "tool" or name in self.fixed:
                 continue
-            key = f"ranges.{name}"
             if name in self.choices:
                 out[name] = (0.0, len(self.choices[name]) - 1.0)
                 continue
             if zone_gene is not None and name == zone_gene.name:
                 out[name] = tuple(float(b) for b in zone_range(spec.get(name, zone_gene.bounds)))
                 continue
-            lo, hi = interval(spec[name], key) if name in spec else DEFAULT_RANGES[name]
-            for x in (lo, hi):
-                _check_value(name, x, key)
-            out[name] = (lo, hi)
+            out[name] = tuple(spec[name]) if name in spec else DEFAULT_RANGES[name]
         return out
 
     def _variable(self, name):

@@ -80,7 +80,9 @@ class ToolpathProblem(Problem):
         self.tolerance = self.planner.tolerance
         layouts = self.planner.layouts
         self.genes = GeneSpace(
-            self.planner.gene_names, self.tool_db, spec.ranges, spec.fixed,
+            self.planner.gene_names, self.tool_db,
+            None if spec.ranges is None else spec.ranges.given(),
+            None if spec.fixed is None else spec.fixed.given(),
             absent=absent_genes(spec.machine, spec.spacing, layouts.method.name,
                                 self.planner.strategy.name),
             zone_gene=layouts.method.gene, zone_range=self._zone_range,

@@ -8,9 +8,9 @@ settings (``criteria/simulated.py``, with its screening's in ``criteria/screenin
 the machine's dynamics (``criteria/kinematic_time.py``). :meth:`ToolpathSpec.from_params` turns plain data into the
 model with a one-line ``ValueError`` that starts with the key path
 (``zoning.method: expected one of single, kmeans, amas, got 'kmean'``); ``ToolpathProblem``
-builds from the model. The genes' ``ranges`` and ``fixed`` values are checked against the
-configuration's genes when the problem is built (``genes.py``): which genes exist depends on
-the planner.
+builds from the model. The genes' ``ranges`` and ``fixed`` values are checked here
+(``spec/genes.py``); which genes exist, the zoning method's gene range and the tool ids are
+checked against the configuration when the problem is built (``genes.py``).
 """
 
 from __future__ import annotations
@@ -35,6 +35,7 @@ from ..plan.strategies import STRATEGIES, get_strategy
 from ..plan.zones import DEFAULT_H_C
 from .errors import HERE, Known, one_line
 from .fields import NonNegative, Positive
+from .genes import FixedGenes, GeneRanges, both_given
 from .tools import ToolList
 from .zoning import ZoningSettings
 
@@ -126,9 +127,9 @@ class ToolpathSpec(BaseModel):
                         Field(description="the pass layout: " + " | ".join(STRATEGIES)
                               + ", {name, ...settings}, or a list to choose from")] = None
     # the decisions
-    ranges: Annotated[dict[str, Any] | None, BeforeValidator(_mapping("gene -> [lo, hi]")),
+    ranges: Annotated[GeneRanges | None, BeforeValidator(_mapping("gene -> [lo, hi]")),
                       Field(description="gene -> [lo, hi]: a free gene's range")] = None
-    fixed: Annotated[dict[str, Any] | None, BeforeValidator(_mapping("gene -> value")),
+    fixed: Annotated[FixedGenes | None, BeforeValidator(_mapping("gene -> value")),
                      Field(description="gene -> value: not a variable (the tool by its id)")] = None
     # the judgement
     weights: Annotated[dict[str, float] | None,
@@ -157,6 +158,7 @@ class ToolpathSpec(BaseModel):
 
     @model_validator(mode="after")
     def _together(self):
+        both_given(self.ranges, self.fixed)
         if self.placement is not None and self.machine != "3axis":
             raise ValueError(f"placement: only a 3-axis machine has a placement choice "
                              f"(machine is {self.machine!r})")

@@ -187,3 +187,40 @@ def test_the_simulation_settings_are_typed_in_the_spec_and_the_criteria_take_the
                                     "screening": {"fraction": 0.5}}).settings == spec.simulation
     with pytest.raises(ValueError, match=r"^simulation\.rays: expected normal or vertical"):
         SimulatedCriteria(None, {"rays": "sideways"})
+
+
+@pytest.mark.parametrize("params,line", [
+    ({"ranges": {"stepover": [0, 40]}}, "ranges.stepover: must be > 0, got 0"),
+    ({"ranges": {"stepover": [20, 120]}}, "ranges.stepover: a step-over above 100 % of D leaves material uncut, got 120"),
+    ({"ranges": {"lead": [5, 0]}}, "ranges.lead: expected finite lo < hi, got [5, 0]"),
+    ({"ranges": {"tilt": [0, 95]}}, "ranges.tilt: angles must lie in (-90, 90) degrees, got 95"),
+    ({"ranges": {"step": "long"}}, "ranges.step: expected [lo, hi], got 'long'"),
+    ({"ranges": {"lead": 0}}, "ranges.lead: expected [lo, hi], got 0 (to fix a gene, write fixed: {lead: 0})"),
+    ({"ranges": {"zones": 3}}, "ranges.zones: expected [lo, hi], got 3 (to fix a gene, write fixed: {zones: 3})"),
+    ({"ranges": {"tool": [1, 2]}}, "ranges.tool: the tool is a choice over the tool database (list fewer "
+                                   "tools, or fix one with fixed: {tool: ID})"),
+    ({"ranges": {"lead": [0, 1]}, "fixed": {"lead": 0}},
+     "ranges.lead: lead is fixed (fixed.lead); give a range or a fixed value, not both"),
+    ({"ranges": [1, 2]}, "ranges: expected a mapping gene -> [lo, hi], got [1, 2]"),
+    ({"fixed": {"tilt": 95}}, "fixed.tilt: angles must lie in (-90, 90) degrees, got 95"),
+    ({"fixed": {"step": 0}}, "fixed.step: must be > 0, got 0"),
+    ({"fixed": {"stepover": "wide"}}, "fixed.stepover: expected a number, got 'wide'"),
+])
+def test_gene_values_are_checked_by_the_spec(params, line):
+    """A gene's value is checked without building the planner: one line naming the key."""
+    assert _error(**params) == line
+
+
+def test_the_spec_types_the_gene_values_and_leaves_the_configurations_genes_to_the_problem():
+    spec = ToolpathSpec.from_params({"ranges": {"stepover": [25, 30], "lead": [1, 1], "zones": [2, 5]},
+                                     "fixed": {"tool": 8, "step": 6}})
+    assert spec.ranges.stepover == (25.0, 30.0) and spec.fixed.step == 6.0
+    assert spec.ranges.given() == {"stepover": (25.0, 30.0), "lead": (1.0, 1.0), "zones": [2, 5]}
+    assert spec.fixed.given() == {"tool": 8, "step": 6.0}  # the tool id: checked against the database
+    # the configuration's genes: no zoning here, so no zones gene (the problem says so)
+    with pytest.raises(ValueError, match=r"^ranges.zones: not a gene of this configuration"):
+        ToolpathProblem(spec)
+    problem = ToolpathProblem(ranges={"stepover": [25, 30], "lead": [1, 1]}, fixed={"tool": 8, "step": 6},
+                              normalization_samples=2)
+    assert problem.fixed == {"tool": 8, "lead": 1.0, "step": 6.0}  # the one-point range is fixed
+    assert problem.ranges == {"stepover": (25.0, 30.0), "tilt": (0.0, 2.0)}
