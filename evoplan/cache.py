@@ -118,8 +118,12 @@ def index_keys(keys: np.ndarray):
     return keys.tolist()
 
 
-def first_occurrence(keys: list) -> np.ndarray:
-    """For each (hashable) key, the index of its first occurrence in ``keys``: one dict pass."""
+def first_occurrence(keys) -> np.ndarray:
+    """For each key, the index of its first occurrence in ``keys``: an ``int64`` array by one
+    sort (``np.unique``), a list of hashable keys by one dict pass."""
+    if isinstance(keys, np.ndarray):
+        _, first, inverse = np.unique(keys, return_index=True, return_inverse=True)
+        return first[inverse]
     n = len(keys)
     seen = dict(zip(reversed(keys), range(n - 1, -1, -1)))  # the earliest index is written last
     return np.fromiter(map(seen.__getitem__, keys), dtype=np.intp, count=n)
@@ -147,13 +151,13 @@ class DictIndex:
         return np.fromiter(map(self._dict.get, keys, repeat(-1)), dtype=np.intp, count=len(keys))
 
     def lookup(self, keys) -> tuple[np.ndarray, np.ndarray]:
-        keys = _python(keys)
         n = len(keys)
         slot = self.get(keys) if self._dict else np.full(n, -1)
         first = np.arange(n)
         miss = np.flatnonzero(slot < 0)
         if miss.size > 1:
-            first[miss] = miss[first_occurrence([keys[i] for i in miss])]
+            missed = keys[miss] if isinstance(keys, np.ndarray) else [keys[i] for i in miss]
+            first[miss] = miss[first_occurrence(missed)]
         return slot, first
 
     def lookup_rows(self, G: np.ndarray, exponents: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
