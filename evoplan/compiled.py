@@ -3,19 +3,21 @@
 The core's two hot loops have a compiled form and a numpy form that give the same numbers
 bit for bit: the evaluation cache's key index (``key_index.py`` against a ``dict``) and VEGA's
 infection round (``operators/viral_kernels.py`` against ``operators/viral_outcome.py``'s
-matrix form). The compiled forms are about 5x faster per row (cache: 0.4 against 1.9 us a
-row looked up and stored), but a process pays once to load numba and dispatch them: about
-1.0-1.1 s of CPU on the 2-core host (numba's import 0.3-0.4 s, the first dispatch of a cached
-function 0.6 s). A 200 x 200 GA run looks up 40 000 rows: in a fresh process the numpy forms
-finish it before numba would have loaded.
+matrix form). The compiled forms are faster per row, but a process pays once to load numba
+and dispatch them: 1.0-1.1 s of CPU on the 2-core host (numba's import 0.3-0.4 s, the first
+dispatch of a cached function 0.6 s). Measured in fresh processes (GA on Kubota's function,
+a 100 000-entry cache, CPU seconds of the whole process): 200 x 200 generations take 0.11 s
+of run in numpy, a tenth of the load; 200 x 10 000 (2 M rows) 6.16 s numpy against 6.40 s
+compiled; 200 x 20 000 (4 M rows) 9.7-10.0 s against 7.7-9.0 s.
 
 :func:`use_compiled` is the rule, one for the process (the cost is the process's):
 
 - numba already loaded (a toolpath problem's kernels, or an earlier long run): compiled, as
   the load is paid;
-- else numpy, until the process has put :data:`SWITCH_ROWS` rows through these loops; then
-  compiled. That is the break-even (1.05 s / 1.5 us a row), so a run never pays more than
-  about twice what the better choice in hindsight would have cost (the ski-rental rule).
+- else numpy, until the process has put :data:`SWITCH_ROWS` rows through these loops (the
+  cache's rows, and VEGA's infections too); then compiled. That is about the break-even
+  above, so a run never pays much more than twice what the better choice in hindsight would
+  have cost (the ski-rental rule).
 
 The choice changes time, never numbers. :func:`set_mode` fixes it (``always`` / ``never``) for
 benchmarks and tests.
@@ -27,7 +29,7 @@ import sys
 
 __all__ = ["SWITCH_ROWS", "MODES", "use_compiled", "set_mode"]
 
-SWITCH_ROWS = 700_000
+SWITCH_ROWS = 2_000_000
 MODES = ("auto", "always", "never")
 
 _mode = "auto"
