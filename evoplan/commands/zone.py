@@ -1,6 +1,8 @@
 """``evoplan zone CONFIG [--out DIR] [--quiet]``: zone a surface, optimize each zone's feed direction.
 
-The file names the surface, the cutter (R, r), the scallop limit h_c, the zone-change
+The file names the surface, the tool (a run file's tools entry: any registered cutter, e.g.
+``tool: {type: tapered_ball, diameter: 8, corner_radius: 1, taper_angle: 10}``; the older
+``cutter: {R, r}`` still reads), the scallop limit h_c, the zone-change
 penalty Delta L, the parametric mesh, the zoning method (any name of the registry in
 ``problems/toolpath/plan/zoning/methods/``: single, kmeans, amas) with a settings group per method,
 and ``merge`` (the post-process of ``zoning/merge.py``); see ``runs/choi_zoning.yaml``. The
@@ -8,7 +10,7 @@ config model is built from the registry, so this command holds no method logic. 
 is the one toolpath engine's (3-axis, drop-cutter placement, passes spaced for h_c, each
 zone along its optimized direction), so its lengths are those of the sections it cuts.
 ``strategy`` (or ``--strategy NAME``) picks the pass layout of ``plan/strategies``
-(default parallel). Writes ``summary.json`` (method, strategy, zones, per-zone direction,
+(default parallel). Writes ``summary.json`` (method, strategy, the cutter, zones, per-zone direction,
 passes and length, total length of Djebali Eq. 4 with the edge runs, the lengths as the
 papers count them: ``length_on_part_mm`` and ``length_papers_mm`` = on part + penalty,
 penalty, merge counts, seconds), ``zones.csv`` (cell -> zone, with the cell's features),
@@ -67,10 +69,26 @@ def load(path: str, method: str | None = None, strategy: str | None = None) -> Z
         data["method"] = method
     if strategy is not None:
         data["strategy"] = strategy
+    older = data.get("cutter")
+    if isinstance(older, dict) and set(older) - {"R", "r"}:  # a tools entry under the old key
+        raise ConfigError(f"{path}: cutter.{sorted(set(older) - {'R', 'r'})[0]}: cutter holds "
+                          f"only R and r; write any registered cutter as a run file's tools "
+                          f"entry: tool: {{type, diameter, corner_radius, ...}}")
     try:
         cfg = zone_config_model().model_validate(data)
     except ValidationError as e:
+        if e.errors()[0]["loc"][:1] == ("tool",):  # a tools entry: the run file's own lines
+            from ..problems.toolpath.spec.errors import one_line
+            from ..problems.toolpath.spec.tools import ToolSettings
+
+            line = one_line(e, known_of=lambda loc: list(ToolSettings.model_fields)
+                            if tuple(loc) == ("tool",) else None)
+            raise ConfigError(f"{path}: {line}") from None
         raise ConfigError(format_validation_error(e, str(path))) from None
+    if cfg.tool is not None and cfg.cutter is not None:
+        raise ConfigError(f"{path}: cutter: give the cutter once: tool: {{type, diameter, "
+                          f"corner_radius, ...}} (a run file's tools entry) or the older cutter: "
+                          f"{{R, r}}, not both")
     require(mesh_bytes(*cfg.mesh), f"{path}: mesh", f"{cfg.mesh[0]} x {cfg.mesh[1]} cells")
     return cfg
 
@@ -86,13 +104,10 @@ def build_plan(cfg: ZoneBase, base_dir: Path, progress=None):
     from ..problems.toolpath.plan.planner import Planner
     from ..problems.toolpath.plan.zones import ZoningSpec
     from ..problems.toolpath.plan.zoning.methods import REGISTRY
-    from ..problems.toolpath.plan.zoning.stepover import ScallopTarget
-    from ..problems.toolpath.spec import parse_tools
+    from ..problems.toolpath.spec import tool_database
 
     surface = parse_surface(cfg.surface, "surface", base_dir=base_dir)
-    target = ScallopTarget.build(cfg.cutter.R, cfg.cutter.r, cfg.h_c, key="cutter")
-    tools = parse_tools([{"id": 1, "diameter": target.cutter.diameter,
-                          "corner_radius": target.cutter.corner_radius}], "cutter")
+    tools = tool_database([cfg.tool_settings()])
     settings = getattr(cfg, cfg.method).model_dump()  # the method's own settings group
     gene = REGISTRY[cfg.method].gene
     genes = {"tool": np.array([0]), "step": np.array([cfg.step])}
@@ -135,7 +150,7 @@ def summary(cfg: ZoneBase, planner, genes, batch, seconds: float) -> dict[str, A
     on_part = float(batch.seg_len[chords].sum())
     return {
         "name": cfg.name, "method": layouts.method.name, "mesh": list(cfg.mesh),
-        "cutter": {"R": cfg.cutter.R, "r": cfg.cutter.r}, "h_c": cfg.h_c,
+        "cutter": planner.tools.cutter(0).to_dict(), "h_c": cfg.h_c,
         "stepover_model": cfg.stepover_model, "step_mm": cfg.step,
         "zones": zones, "n_zones": layout.count,
         "cutting_length_mm": round(cutting, 3),
@@ -155,7 +170,7 @@ def toolpath_apt(planner, genes, facts) -> bytes:
     from ..problems.toolpath.export.apt_write import apt_toolpath
     from ..problems.toolpath.export.toolpath import Toolpath
 
-    path = planner.cl_path(genes)
+    path = planner.cl_path(genes, float(planner.tools.feeds(1000.0)[0]))
     tool = planner.tools.tools[0]
     starts = [i for i in range(len(path)) if i == 0 or path.section[i] != path.section[i - 1]]
     names = {int(path.section[i]): f"ZONE {path.zone[i]} PASS {path.pass_index[i]}"
