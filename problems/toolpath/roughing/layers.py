@@ -3,7 +3,10 @@
 Everything lives on one XY grid over the surface's footprint (cell centres ``xs``, ``ys``):
 
 - ``height_field``: the surface as z(x, y), the highest surface sample in each cell (-inf
-  where the surface has none).
+  where the surface has none). The samples span the whole parameter square: over a trimmed
+  face's holes and notches (and a mesh's gaps) that is the face's continuation, the surface
+  the semi-finish's ball also follows there (``operations.py`` says why the block is roughed
+  to it); ``footprint_cells`` marks the cells on the part itself.
 - ``floor_field``: F(x, y), the lowest height the bottom of a flat end mill of radius R may
   take with its axis at (x, y) and still stay ``allowance`` away from the surface: the
   surface heights dilated by a disk of radius R + allowance (+ half a cell diagonal, for the
@@ -93,6 +96,18 @@ def height_field(surface, grid: Grid, samples: int | None = None) -> np.ndarray:
     z = np.full((len(grid.ys), len(grid.xs)), -np.inf)
     np.maximum.at(z, (r, c), p[:, 2])
     return z
+
+
+def footprint_cells(surface, grid: Grid) -> np.ndarray:
+    """(ny, nx) the cells whose centre lies on the part: inside the surface's trimmed
+    footprint in plan view (every cell for a surface over its whole parameter square)."""
+    from ..geometry.crossings import inside_grid
+    from ..geometry.footprint import footprint_of
+
+    footprint = footprint_of(surface)
+    if footprint.whole:
+        return np.ones((len(grid.ys), len(grid.xs)), bool)
+    return inside_grid(footprint.xy_loops(surface), grid.xs, grid.ys)
 
 
 def floor_field(z: np.ndarray, grid: Grid, tool_radius: float, allowance: float) -> np.ndarray:

@@ -3,6 +3,23 @@
 - ``roughing``: Abbas' morphing layers (cut where material remains, ``remaining.py``, or over
   the whole block) or the z-level baselines (``layers.py``; zig-zag ``zigzag.py``, contour-
   parallel ``contour.py``) with a flat end mill, checked on a stock Z-map (``zmap.py``).
+
+The block covers the surface's XY box, and on a trimmed face (a STEP face's hole or notch)
+or a mesh with gaps that box holds cells off the part. There the roughing floor is the
+face's continuation over its parameter square (plus the allowance, dilated by the tool like
+everywhere), not the block's bottom and not the untouched stock top, because:
+
+- the semi-finish (``ball_on_offset``) runs its ball over the whole parameter square, so
+  over a hole it follows the same continuation: roughed to it, the ball meets only its
+  allowance there, as everywhere; left at the stock top, it would plunge into full stock;
+- what lies below a face outside its footprint is not known from the face: the rest of the
+  solid (a blind pocket's floor, a neighbouring face of the same top) may be there, so
+  cutting deeper (to the lowest point of the face, or the block's bottom) could cut the
+  part. The hole and the notch are other features' operations (drilling, pocketing);
+- the finish plan itself stays on the footprint (its sections stop at the trim).
+
+The figures measured against the part (``left_min`` / ``left_max``: stock left above the
+surface) are read on the footprint's cells only (``Stock.part``).
 - ``ball_on_offset``: 3-axis ball-end zig-zag along iso-parametric curves (passes at constant
   v, points along u), the ball centre on the exact normal offset at R + allowance
   (``offset.py``): semi-finish with allowance D_off2, finish with 0.
@@ -19,7 +36,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..export.toolpath import Tool, Toolpath
-from .layers import Grid, floor_field, height_field, layer_count, morph_layers, z_levels
+from .layers import (Grid, floor_field, footprint_cells, height_field, layer_count, morph_layers,
+                     z_levels)
 from .offset import normal_offset
 from .zigzag import morph_path, zlevel_path
 from .zmap import StockZMap
@@ -27,11 +45,14 @@ from .zmap import StockZMap
 
 @dataclass
 class Stock:
-    """Block over the surface's XY box, top at ``z_top``; the surface's height field on ``grid``."""
+    """Block over the surface's XY box, top at ``z_top``; the surface's height field on ``grid``
+    (over the whole parameter square) and ``part``, its cells on the part's footprint (None:
+    every cell)."""
 
     grid: Grid
     z_surface: np.ndarray
     z_top: float
+    part: np.ndarray | None = None
 
     @property
     def z_min(self) -> float:
@@ -74,7 +95,8 @@ def block_stock(surface, cell: float, top: float | None = None, top_offset: floa
     z_max = float(z.max())
     if top is not None and top < z_max:
         raise ValueError(f"stock.top: {top:g} is below the surface (its highest point is z = {z_max:.3f})")
-    return Stock(grid, z, z_max + top_offset if top is None else float(top))
+    return Stock(grid, z, z_max + top_offset if top is None else float(top),
+                 footprint_cells(surface, grid))
 
 
 def roughing(stock: Stock, method: str, tool: Tool, *, d_cut: float, stepover: float, allowance_semi: float,
@@ -112,7 +134,7 @@ def roughing(stock: Stock, method: str, tool: Tool, *, d_cut: float, stepover: f
         raise ValueError(f"roughing.method: unknown method {method!r} (known: morphing, morphing_full, zlevel, contour)")
     zmap = StockZMap(stock.grid, stock.z_top)
     stats = zmap.cut(tp)
-    left_min, left_max = zmap.clearance_over(stock.z_surface)
+    left_min, left_max = zmap.clearance_over(stock.z_surface, stock.part)  # on the part only
     stats.update(method=method, n_layers=n, d_z=d_z, d_layers=d_z - a, d_cut=d_cut, z_top=stock.z_top,
                  z_min=stock.z_min, allowance=a, left_min=left_min, left_max=left_max)
     return tp, stats, (floor, layers)

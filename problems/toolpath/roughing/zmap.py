@@ -107,8 +107,9 @@ class StockZMap:
                 "air_length": float(ds[feed & (depth < air_eps)].sum()), "rapid_volume": float(removed[rapid].sum()),
                 "layers": layers}
 
-    def clearance_over(self, z_surface: np.ndarray) -> tuple[float, float]:
-        """(min, max) of stock height minus surface height over the cells the surface covers."""
-        inside = np.isfinite(z_surface)
+    def clearance_over(self, z_surface: np.ndarray, part: np.ndarray | None = None) -> tuple[float, float]:
+        """(min, max) of stock height minus surface height over the cells the surface covers
+        (``part``: only those cells, e.g. the ones on a trimmed face's footprint)."""
+        inside = np.isfinite(z_surface) & (True if part is None else part)
         left = self.h[inside] - z_surface[inside]
         return float(left.min()), float(left.max())
