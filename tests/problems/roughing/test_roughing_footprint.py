@@ -25,11 +25,12 @@ A = 0.8  # semi-finish + finish allowance
 
 @pytest.fixture(scope="module")
 def roughed():
+    """The roughing of runs/step_block_machine.yaml (zlevel, flat D12, 3 mm deep, 60 % of D)."""
     surface = parse_surface({"type": "step", "file": "parts/sculpted_block.step", "face": "largest"},
                             "surface", RUNS)
     stock = block_stock(surface, 1.0, top_offset=3.0)
     tool = Tool(1, make_cutter(12.0, 0.0), 6000)
-    tp, stats, _ = roughing(stock, "zlevel", tool, d_cut=3.0, stepover=0.6, allowance_semi=0.5,
+    tp, stats, _ = roughing(stock, "zlevel", tool, d_cut=3.0, stepover=0.6 * 12.0, allowance_semi=0.5,
                             allowance_finish=0.3, feed=800, plunge_feed=250)
     zmap = StockZMap(stock.grid, stock.z_top)
     zmap.cut(tp)
