@@ -48,6 +48,7 @@ def load(path: str, settings: list[str] = ()) -> MachineConfig:
 
     from ..config import format_validation_error, read_yaml
     from ..overrides import apply_settings
+    from ..problems.toolpath.spec.errors import HERE
     from .machine_config import MachineConfig
 
     data = apply_settings(read_yaml(path), list(settings), str(path))
@@ -55,6 +56,12 @@ def load(path: str, settings: list[str] = ()) -> MachineConfig:
     try:
         return MachineConfig.model_validate(data)
     except ValidationError as e:
+        first = e.errors()[0]
+        msg = first["msg"].removeprefix("Value error, ")
+        if HERE in msg:  # a check that names what is wrong itself (machine_config.py)
+            from ..problems.toolpath.spec.errors import key_path
+
+            raise ConfigError(f"{path}: {msg.replace(HERE, key_path(first['loc']))}".splitlines()[0]) from None
         raise ConfigError(format_validation_error(e, str(path))) from None
 
 

@@ -1,14 +1,29 @@
 """The machining file's model (``evoplan machine CONFIG``): stock, allowances, the three
 operations and the post. Kept apart from the command so that ``evoplan machine --help`` imports
-no pydantic model."""
+no pydantic model.
+
+The file is validated here once, when it is loaded: the post's dialect against the post
+registry, the kinematics (built for a 5-axis post, as its post will hold them) and
+``finish.problem`` by the toolpath specification (``ToolpathSpec``, the keys a finish plan
+takes). A check raised inside a validator writes ``HERE`` (``problems/toolpath/spec/errors.py``)
+where its key path goes; :func:`evoplan.commands.machine.load` fills it in. Checks that need
+built objects stay in ``problems/toolpath/roughing/operation_set.py``: the clearance plane
+against the stock top (computed from the surface) and a 3-axis post refusing a 5-axis finish
+plan (the plan may come from ``--from-run``).
+"""
 
 from __future__ import annotations
 
 from typing import Any, Literal
 
-from pydantic import Field
+from pydantic import Field, field_validator, model_validator
 
 from ..config import _Strict
+from ..problems.toolpath.spec.errors import HERE
+
+#: the toolpath specification's keys a finish plan takes (``finish.problem``); the others
+#: (surface, weights, objectives, normalization, simulation) do not change the one plan made
+PLAN_KEYS = ("feed_rate", "tolerance", "feed_angle", "allowance", "tools", "ranges")
 
 
 class ToolCfg(_Strict):
@@ -57,7 +72,22 @@ class PlanParams(_Strict):
 class FinishCfg(BallCfg):
     source: Literal["plan", "offset"] = "plan"
     params: PlanParams = Field(default_factory=PlanParams)
-    problem: dict[str, Any] = Field(default_factory=dict)   # toolpath problem params (not surface)
+    problem: dict[str, Any] = Field(default_factory=dict)   # toolpath problem params (PLAN_KEYS)
+
+    @field_validator("problem")
+    @classmethod
+    def _plan_params(cls, value: dict) -> dict:
+        """Only the keys of :data:`PLAN_KEYS`, each checked by ``ToolpathSpec``."""
+        from ..problems.toolpath.spec import ToolpathSpec
+
+        unknown = set(value) - set(PLAN_KEYS)
+        if unknown:
+            raise ValueError(f"{HERE}.{sorted(unknown)[0]}: unknown (known: {', '.join(PLAN_KEYS)})")
+        try:
+            ToolpathSpec.from_params(value)
+        except ValueError as e:
+            raise ValueError(f"{HERE}.{e}") from None
+        return value
 
 
 class RotaryCfg(_Strict):
@@ -78,6 +108,16 @@ class KinematicsCfg(_Strict):
     pole_angle: float = Field(0.5, ge=0, lt=90)   # |tilt| below which the table holds (deg; 0: off)
     rapid_rotary: float = Field(5400.0, gt=0)     # rotary rapid rate, deg/min
 
+    def build(self):
+        """The :class:`~evoplan.problems.toolpath.export.kinematics.Kinematics` of these
+        settings (a ``ValueError`` if the axes do not make a machine)."""
+        from ..problems.toolpath.export.kinematics import Kinematics, Rotary
+
+        return Kinematics(self.layout, Rotary(self.tilt.name, self.tilt.about, tuple(self.tilt.limits)),
+                          Rotary(self.rotary.name, self.rotary.about, tuple(self.rotary.limits)),
+                          self.max_step, self.max_deviation, self.rotary_threshold, self.pole_angle,
+                          rapid_rotary=self.rapid_rotary)
+
 
 class PostCfg(_Strict):
     dialect: str = "fanuc"
@@ -86,6 +126,27 @@ class PostCfg(_Strict):
     rapid_rate: float = Field(10000.0, gt=0)
     tolerance: float | None = Field(None, gt=0)  # mm: merge near-collinear points, fit G2/G3 (iso); None: every point
     kinematics: KinematicsCfg = Field(default_factory=KinematicsCfg)
+
+    @field_validator("dialect")
+    @classmethod
+    def _known_post(cls, value: str) -> str:
+        from ..problems.toolpath.export.posts import POSTS
+
+        if value not in POSTS:
+            raise ValueError(f"{HERE}: unknown post {value!r} (known: {', '.join(sorted(POSTS))})")
+        return value
+
+    @model_validator(mode="after")
+    def _machine(self):
+        """A 5-axis post's kinematics must make a machine (a 3-axis post ignores them)."""
+        from ..problems.toolpath.export.posts import POSTS
+
+        if POSTS[self.dialect].five_axis:
+            try:
+                self.kinematics.build()
+            except ValueError as e:
+                raise ValueError(f"{HERE}.kinematics: {e}") from None
+        return self
 
 
 class MachineConfig(_Strict):

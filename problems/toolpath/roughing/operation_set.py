@@ -3,6 +3,13 @@
 ``build_operations(cfg, base_dir, plan)`` returns ({file name: bytes}, summary); any bad value
 raises a one-line ValueError starting with its key path (``roughing.max_depth: ...``,
 ``post.dialect: ...``, ``post.kinematics: finish: point 12: ...``, ``stock.top: ...``).
+
+``cfg`` is a machine file already validated by ``evoplan/commands/machine_config.py``
+(``MachineConfig(...).model_dump()``): the post's dialect, a 5-axis post's kinematics and the
+``finish.problem`` keys are checked there, once. What needs built objects is checked here: the
+clearance plane against the stock top (computed from the surface), a 3-axis post refusing a
+5-axis finish plan (``--from-run``'s plan included), the sizes, and what the operations and
+posts find (an unreachable point, a depth above the stock).
 """
 
 from __future__ import annotations
@@ -14,7 +21,7 @@ import numpy as np
 from ..criteria.kinematic_time import Dynamics, moves_time
 from ..export.apt_write import apt_toolpath
 from ..export.exchange import surface_dxf, surface_stl, toolpaths_dxf
-from ..export.kinematics import Kinematics, ReachError, Rotary
+from ..export.kinematics import Kinematics, ReachError
 from ..export.posts import POSTS, Machine, PostError
 from ..export.safety import check_program
 from ..export.toolpath import Tool
@@ -23,8 +30,6 @@ from ..geometry.spec import parse_surface
 from .budget import check_sizes
 from .figures import layers_png
 from .operations import ball_on_offset, block_stock, finish_from_plan, roughing, surface_z_range
-
-PLAN_KEYS = ("feed_rate", "tolerance", "feed_angle", "allowance", "tools", "ranges")
 
 
 def _tool(c: dict, kind: str = "flat") -> Tool:
@@ -35,19 +40,26 @@ def _tool(c: dict, kind: str = "flat") -> Tool:
 
 
 def _kinematics(k: dict) -> Kinematics:
+    """The kinematics of a ``post.kinematics`` mapping, through the file model's
+    ``KinematicsCfg`` (its checks ran when the file was loaded)."""
+    from pydantic import ValidationError
+
+    from evoplan.commands.machine_config import KinematicsCfg
+
+    from ..spec.errors import one_line
+
     try:
-        return Kinematics(k["layout"], Rotary(k["tilt"]["name"], k["tilt"]["about"], tuple(k["tilt"]["limits"])),
-                          Rotary(k["rotary"]["name"], k["rotary"]["about"], tuple(k["rotary"]["limits"])),
-                          float(k["max_step"]), float(k["max_deviation"]),
-                          float(k.get("rotary_threshold", 20.0)), float(k.get("pole_angle", 0.5)),
-                          rapid_rotary=float(k.get("rapid_rotary", 5400.0)))
+        return KinematicsCfg.model_validate(k).build()
+    except ValidationError as e:
+        raise ValueError(one_line(e, "post.kinematics")) from None
     except ValueError as e:
         raise ValueError(f"post.kinematics: {e}") from None
 
 
 def _clearance_plane(k: dict, z_top: float) -> float:
     """The clearance plane's Z: ``clearance_plane`` (absolute, not below the stock top) or
-    ``clearance_height`` above the stock top."""
+    ``clearance_height`` above the stock top. Checked here, not in the file model: the stock
+    top is known only once the surface is built."""
     plane = k.get("clearance_plane")
     if plane is None:
         return z_top + float(k.get("clearance_height", 20.0))
@@ -83,10 +95,7 @@ def _finish_plan(surface, cfg: dict, plan):
         params = {k: v for k, v in run_params.items() if k != "surface"}
         where = "--from-run"
     else:
-        variables, params = fin["params"], dict(fin["problem"])
-        unknown = set(params) - set(PLAN_KEYS)
-        if unknown:
-            raise ValueError(f"finish.problem.{sorted(unknown)[0]}: unknown (known: {', '.join(PLAN_KEYS)})")
+        variables, params = fin["params"], dict(fin["problem"])  # its keys checked on load
         where = "finish"
     params.setdefault("feed_rate", fin["feed"])
     try:
@@ -101,7 +110,8 @@ def _finish_plan(surface, cfg: dict, plan):
 
 
 def _check_axes(post_cls, cfg: dict, plan) -> None:
-    """A 3-axis post cannot take a 5-axis finish: refused before any operation is planned."""
+    """A 3-axis post cannot take a 5-axis finish: refused before any operation is planned.
+    Checked here, not in the file model: a ``--from-run`` plan brings its own machine."""
     fin = cfg["finish"]
     if post_cls.five_axis or fin["source"] != "plan":
         return
@@ -130,9 +140,7 @@ def build_operations(cfg: dict, base_dir=None, plan=None, max_bytes: float | Non
     against ``max_bytes`` and the ceilings of :mod:`.budget`."""
     surface = parse_surface(cfg["surface"], "surface", base_dir)
     check_sizes(cfg, surface, max_bytes)
-    post_cfg = cfg["post"]
-    if post_cfg["dialect"] not in POSTS:
-        raise ValueError(f"post.dialect: unknown post {post_cfg['dialect']!r} (known: {', '.join(sorted(POSTS))})")
+    post_cfg = cfg["post"]  # its dialect is a registered post (checked on load)
     post_cls = POSTS[post_cfg["dialect"]]
     _check_axes(post_cls, cfg, plan)
     kin = _kinematics(post_cfg["kinematics"]) if post_cls.five_axis else None
