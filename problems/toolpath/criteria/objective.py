@@ -15,13 +15,16 @@ cc_count 0.5. Every criterion is minimized.
 
 from __future__ import annotations
 
+from typing import Annotated
+
 import numpy as np
+from pydantic import BeforeValidator, TypeAdapter, ValidationError
 
 from ..checks import interval, number
 from .table import RENAMED, check_name
 
-__all__ = ["DEFAULT_WEIGHTS", "parse_weights", "parse_objectives", "parse_bounds",
-           "bounds_from_sample", "normalize", "weighted_sum"]
+__all__ = ["DEFAULT_WEIGHTS", "Weights", "Objectives", "Bounds", "parse_weights",
+           "parse_objectives", "parse_bounds", "bounds_from_sample", "normalize", "weighted_sum"]
 
 DEFAULT_WEIGHTS = {"machining_error": 0.5, "cc_count": 0.5}
 
@@ -34,11 +37,9 @@ def _criterion(name, key: str, seen) -> str:
     return crit
 
 
-def parse_weights(weights=None, key: str = "weights") -> dict[str, float]:
-    """Validate weights {criterion: w}: weightable names of the criteria table, each in
-    [0, 1], sum 1 within 1e-9 (the toolpath specification's check of ``weights``)."""
-    if weights is None:
-        return dict(DEFAULT_WEIGHTS)
+def _weights(weights, key: str) -> dict[str, float]:
+    """Weights {criterion: w}: weightable names of the criteria table, each in [0, 1], sum 1
+    within 1e-9."""
     if not isinstance(weights, dict) or not weights:
         raise ValueError(f"{key}: expected a non-empty mapping criterion -> weight, got {weights!r}")
     out = {}
@@ -54,7 +55,7 @@ def parse_weights(weights=None, key: str = "weights") -> dict[str, float]:
     return out
 
 
-def parse_objectives(objectives, key: str = "objectives") -> list[str]:
+def _objectives(objectives, key: str) -> list[str]:
     """A list of weightable criteria (no repeats) for a multi-objective F."""
     if not isinstance(objectives, (list, tuple)) or not objectives:
         raise ValueError(f"{key}: expected a list of criteria, got {objectives!r}")
@@ -64,21 +65,71 @@ def parse_objectives(objectives, key: str = "objectives") -> list[str]:
     return out
 
 
-def parse_bounds(bounds, names, key: str = "normalization") -> dict[str, tuple[float, float]]:
-    """Explicit bounds {criterion: [lo, hi]} with lo < hi for criteria among ``names`` (the
-    weighted ones); names not given are left out."""
-    if bounds is None:
-        return {}
+def _bounds(bounds, key: str) -> dict[str, tuple[float, float]]:
+    """Bounds {criterion: [lo, hi]} with lo < hi (which criteria may have them depends on the
+    weights: :func:`parse_bounds`)."""
     if not isinstance(bounds, dict):
         raise ValueError(f"{key}: expected a mapping criterion -> [lo, hi], got {bounds!r}")
     out = {}
     for name, b in bounds.items():
-        crit = name
         if isinstance(name, str) and name in RENAMED:
             raise ValueError(f"{key}.{name}: renamed {RENAMED[name]}")
-        if crit not in names:
+        out[name] = interval(b, f"{key}.{name}")
+    return out
+
+
+def _here(check):
+    """``check(value, HERE)``: the key path is filled in where the type sits (spec/errors.py;
+    imported when a value is checked, as the spec package imports this module)."""
+    def validate(value):
+        from ..spec.errors import HERE
+
+        return check(value, HERE)
+    validate.__doc__ = check.__doc__
+    return validate
+
+
+#: criterion -> weight (Fountas Eq. 9): weightable criteria of the table, each in [0, 1], sum 1
+Weights = Annotated[dict[str, float], BeforeValidator(_here(_weights))]
+#: the criteria of a multi-objective F: weightable, none twice
+Objectives = Annotated[list[str], BeforeValidator(_here(_objectives))]
+#: criterion -> [lo, hi] normalization bounds, lo < hi
+Bounds = Annotated[dict[str, tuple[float, float]], BeforeValidator(_here(_bounds))]
+
+
+def _validate(kind, value, key: str):
+    """``value`` validated as the type ``kind``, a one-line ValueError naming ``key``."""
+    from ..spec.errors import one_line
+
+    try:
+        return TypeAdapter(kind).validate_python(value)
+    except ValidationError as e:
+        raise ValueError(one_line(e, key)) from None
+
+
+def parse_weights(weights=None, key: str = "weights") -> dict[str, float]:
+    """:data:`Weights` as a function (``None``: the default weights)."""
+    return dict(DEFAULT_WEIGHTS) if weights is None else _validate(Weights, weights, key)
+
+
+def parse_objectives(objectives, key: str = "objectives") -> list[str]:
+    """:data:`Objectives` as a function."""
+    return _validate(Objectives, objectives, key)
+
+
+def check_bounded(bounds: dict, names, key: str = "normalization") -> None:
+    """Bounds only for criteria among ``names`` (the weighted ones)."""
+    for name in bounds:
+        if name not in names:
             raise ValueError(f"{key}.{name}: not a weighted criterion ({', '.join(names)})")
-        out[crit] = interval(b, f"{key}.{name}")
+
+
+def parse_bounds(bounds, names, key: str = "normalization") -> dict[str, tuple[float, float]]:
+    """:data:`Bounds` as a function, for criteria among ``names`` only; ``None``: none."""
+    if bounds is None:
+        return {}
+    out = _validate(Bounds, bounds, key)
+    check_bounded(out, names, key)
     return out
 
 

@@ -24,7 +24,7 @@ from pydantic.json_schema import SkipJsonSchema
 
 from ..checks import number
 from ..criteria.kinematic_time import Dynamics
-from ..criteria.objective import parse_bounds, parse_objectives, parse_weights
+from ..criteria.objective import DEFAULT_WEIGHTS, Bounds, Objectives, Weights, check_bounded
 from ..criteria.screening import ScreeningSettings
 from ..criteria.simulated import SimulationSettings
 from ..geometry.registry import settings_for, surface_union
@@ -132,15 +132,12 @@ class ToolpathSpec(BaseModel):
     fixed: Annotated[FixedGenes | None, BeforeValidator(_mapping("gene -> value")),
                      Field(description="gene -> value: not a variable (the tool by its id)")] = None
     # the judgement
-    weights: Annotated[dict[str, float] | None,
-                       BeforeValidator(lambda v: None if v is None else parse_weights(v, HERE)),
+    weights: Annotated[Weights | None,
                        Field(description="criterion -> weight (Fountas Eq. 9; default "
                              "machining_error 0.5, cc_count 0.5)")] = None
-    objectives: Annotated[list[str] | None,
-                          BeforeValidator(lambda v: None if v is None else parse_objectives(v, HERE)),
+    objectives: Annotated[Objectives | None,
                           Field(description="criteria of a multi-objective F (instead of weights)")] = None
-    normalization: Annotated[dict[str, Any] | None,
-                             BeforeValidator(_mapping("criterion -> [lo, hi]")),
+    normalization: Annotated[Bounds | None,
                              Field(description="criterion -> [lo, hi]: given bounds ([0, 1] keeps "
                                    "the raw value); the others from a seeded design")] = None
     normalization_samples: int = Field(64, description="random rows of the normalization design")
@@ -165,7 +162,7 @@ class ToolpathSpec(BaseModel):
         if self.simulation is not None and self.criteria != "simulated":
             raise ValueError("simulation: only used with criteria: simulated")
         if self.normalization is not None:
-            parse_bounds(self.normalization, self.judged, "normalization")
+            check_bounded(self.normalization, self.judged)
         return self
 
     # -- derived ----------------------------------------------------------------------
@@ -176,7 +173,7 @@ class ToolpathSpec(BaseModel):
 
     @property
     def weights_or_default(self) -> dict[str, float]:
-        return parse_weights(None) if self.weights is None else dict(self.weights)
+        return dict(DEFAULT_WEIGHTS) if self.weights is None else dict(self.weights)
 
     @property
     def scallop_height(self) -> float | None:
