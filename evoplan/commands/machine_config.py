@@ -5,8 +5,8 @@ no pydantic model.
 The file is validated here once, when it is loaded: the post's dialect against the post
 registry, the kinematics (built for a 5-axis post, as its post will hold them) and
 ``finish.problem`` by the toolpath specification (``ToolpathSpec``, the keys a finish plan
-takes). A check raised inside a validator writes ``HERE`` (``problems/toolpath/spec/errors.py``)
-where its key path goes; :func:`evoplan.commands.machine.load` fills it in. Checks that need
+takes), each imported when a file is checked. A check raised inside a validator writes
+``HERE`` (``problems/toolpath/spec/errors.py``) where its key path goes; :func:`evoplan.commands.machine.load` fills it in. Checks that need
 built objects stay in ``problems/toolpath/roughing/operation_set.py``: the clearance plane
 against the stock top (computed from the surface) and a 3-axis post refusing a 5-axis finish
 plan (the plan may come from ``--from-run``).
@@ -19,7 +19,6 @@ from typing import Any, Literal
 from pydantic import Field, field_validator, model_validator
 
 from ..config import _Strict
-from ..problems.toolpath.spec.errors import HERE
 
 #: the toolpath specification's keys a finish plan takes (``finish.problem``); the others
 #: (surface, weights, objectives, normalization, simulation) do not change the one plan made
@@ -79,6 +78,7 @@ class FinishCfg(BallCfg):
     def _plan_params(cls, value: dict) -> dict:
         """Only the keys of :data:`PLAN_KEYS`, each checked by ``ToolpathSpec``."""
         from ..problems.toolpath.spec import ToolpathSpec
+        from ..problems.toolpath.spec.errors import HERE
 
         unknown = set(value) - set(PLAN_KEYS)
         if unknown:
@@ -131,6 +131,7 @@ class PostCfg(_Strict):
     @classmethod
     def _known_post(cls, value: str) -> str:
         from ..problems.toolpath.export.posts import POSTS
+        from ..problems.toolpath.spec.errors import HERE
 
         if value not in POSTS:
             raise ValueError(f"{HERE}: unknown post {value!r} (known: {', '.join(sorted(POSTS))})")
@@ -140,6 +141,7 @@ class PostCfg(_Strict):
     def _machine(self):
         """A 5-axis post's kinematics must make a machine (a 3-axis post ignores them)."""
         from ..problems.toolpath.export.posts import POSTS
+        from ..problems.toolpath.spec.errors import HERE
 
         if POSTS[self.dialect].five_axis:
             try:
