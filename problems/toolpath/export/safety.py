@@ -4,7 +4,12 @@ The rules a machinist asks of a repositioning 5-axis program, verified on what t
 does (the post's own reader turns the text into moves), not on what the writer meant:
 
 1. a move that turns a rotary axis by more than the kinematics' ``rotary_threshold`` starts
-   and ends at or above the clearance plane;
+   and ends at or above the clearance plane; so does a turn split over consecutive
+   non-cutting blocks below the plane (rapids, and feed blocks that leave the tip where it is):
+   each rotary's turns are summed over such a run, and the run fails when a sum passes the
+   threshold. A feed block that moves the tip ends the run and is not summed: 5-axis finishing
+   turns the rotaries while it cuts (the posts split a turn into ``max_step`` blocks), which is
+   the tool axis following the surface, not a repositioning;
 2. the last move before tool-centre-point control is cancelled (``G49``, ``TRAFOOF``,
    ``FUNCTION RESET TCPM``) is at or above the clearance plane, and so is the first move;
    no move after the cancel goes below it (the table may still be tilted);
@@ -56,6 +61,30 @@ def rotary_travel(angles: np.ndarray, pole_angle: float) -> tuple[float, float]:
     return float(dc.sum()), float(dc[near].sum())
 
 
+def _split_turns(mv, zz: np.ndarray, low: np.ndarray, single: np.ndarray,
+                 threshold: float) -> list[tuple[int, int, int, float]]:
+    """Runs of consecutive non-cutting blocks below the clearance plane (rapids, and feed
+    blocks whose tip moves less than ``TOL``) whose summed turn of one rotary passes
+    ``threshold``: (first move, last move, blocks that turn, largest sum) of its turning
+    blocks each; block ``i`` goes from move ``i`` to ``i + 1``. A run holding a block already over the threshold on its own (``single``) is
+    reported there, not again."""
+    step = np.nan_to_num(np.abs(np.diff(mv.angles, axis=0)))
+    moved = np.nan_to_num(np.abs(np.diff(np.where(np.isfinite(mv.tip), mv.tip, 0.0), axis=0)).max(axis=1))
+    idle = (mv.rapid[1:] | (moved < TOL)) & low
+    runs, start = [], None
+    for i in range(len(idle) + 1):
+        if i < len(idle) and idle[i]:
+            start = i if start is None else start
+            continue
+        if start is not None:
+            total = float(step[start:i].sum(axis=0).max())
+            if total > threshold + TOL and not single[start:i].any():
+                turning = start + np.flatnonzero(step[start:i].max(axis=1) > 0)
+                runs.append((int(turning[0]), int(turning[-1]) + 1, len(turning), total))
+            start = None
+    return runs
+
+
 def check_program(post, text: str, safe_z: float) -> SafetyReport:
     """The rules of the module docstring on program ``text`` written by ``post`` (a 5-axis
     post with its machine's kinematics) for the clearance plane ``safe_z``."""
@@ -88,7 +117,11 @@ def check_program(post, text: str, safe_z: float) -> SafetyReport:
     for i in np.flatnonzero((turn > kin.rotary_threshold + TOL) & low)[:5]:
         rep.violations.append(f"move {i + 1}: rotaries turn by {turn[i]:.2f} deg at Z {min(zz[i], zz[i + 1]):.3f}, "
                               f"below the clearance plane {safe_z:.3f}")
+    single = (turn > kin.rotary_threshold + TOL) & low
     rep.repositions = int((turn > kin.rotary_threshold + TOL).sum())
+    for i, j, k, total in _split_turns(mv, zz, low, single, kin.rotary_threshold)[:5]:
+        rep.violations.append(f"moves {i + 1}-{j}: rotaries turn by {total:.2f} deg in {k} non-cutting blocks "
+                              f"at Z {zz[i:j + 1].min():.3f}, below the clearance plane {safe_z:.3f}")
     if kin.pole_angle > 0:
         inside = np.abs(ang[:, 0]) < kin.pole_angle - TOL
         near = inside[:-1] & inside[1:]

@@ -102,3 +102,33 @@ def test_a_move_down_after_tcp_is_cancelled_fails(name, cancel):
     down = "\n".join(lines[:k + 1] + ["G0 Z5."] + lines[k + 1:])
     assert any("after TCP is cancelled a move goes down to Z 5.000" in v
                for v in check_program(post, down, SAFE).violations)
+
+
+FANUC_HEAD = ["%", "O1000", "G21 G90 G17 G40 G49 G80", "T3 M6", "S9000 M3", "M8", "G54",
+              "G0 A30. C0.", "G43.4 H3", "G0 X0. Y0. Z40.", "G0 Z5."]
+FANUC_TAIL = ["G0 Z40.", "G49", "M9", "M5", "M30", "%"]
+
+
+def test_a_turn_split_into_small_rapid_blocks_below_the_clearance_fails():
+    post = POSTS["fanuc"](Machine(kin(), safe_z=SAFE))
+    one = FANUC_HEAD + ["G0 C60."] + FANUC_TAIL
+    assert any("rotaries turn by 60.00 deg at Z 5.000" in v for v in check_program(post, "\n".join(one), SAFE).violations)
+    # the same 60 deg as six rapid blocks of 10 deg: still a turn next to the part
+    six = FANUC_HEAD + [f"G0 C{10 * k}." for k in range(1, 7)] + FANUC_TAIL
+    rep = check_program(post, "\n".join(six), SAFE)
+    assert any("rotaries turn by 60.00 deg in 6 non-cutting blocks at Z 5.000" in v for v in rep.violations), rep.violations
+    # feed blocks that stay in place are non-cutting too
+    slow = FANUC_HEAD + ["G1 F500."] + [f"C{10 * k}." for k in range(1, 7)] + FANUC_TAIL
+    assert any("in 6 non-cutting blocks" in v for v in check_program(post, "\n".join(slow), SAFE).violations)
+    # A and C each under the threshold: each axis is summed on its own (15 + 15 deg, 3 blocks each)
+    both = FANUC_HEAD + ["G0 A35. C5.", "G0 A40. C10.", "G0 A45. C15."] + FANUC_TAIL
+    assert check_program(post, "\n".join(both), SAFE).ok
+    # the turns rise to the clearance between the steps: allowed
+    up = FANUC_HEAD + [f"G0 Z40.\nC{10 * k}.\nZ5." for k in range(1, 7)] + FANUC_TAIL
+    assert check_program(post, "\n".join(up), SAFE).ok
+    # 5-axis finishing turns while it cuts: feed blocks that move the tip are not summed
+    cut = FANUC_HEAD + ["G1 F500."] + [f"X{k}. C{10 * k}." for k in range(1, 13)] + FANUC_TAIL
+    assert check_program(post, "\n".join(cut), SAFE).ok
+    # ... and a cutting block between rapids ends the run
+    split = FANUC_HEAD + ["G0 C10.", "C20.", "G1 X1. F500.", "G0 C30.", "C40."] + FANUC_TAIL
+    assert check_program(post, "\n".join(split), SAFE).ok
