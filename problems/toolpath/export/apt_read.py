@@ -34,10 +34,12 @@ Statements with meaning here:
 
 Every other statement that does not move the tool (``PPRINT`` and ``INSERT``, whose free
 text follows a space or a slash, ``MSYS/`` (the output frame the
-GOTOs are already in), ``PAINT/``, ``INDIRV/``, ``TOOL PATH/``, ``END-OF-PATH``, ``CUTCOM``,
-...) is counted and listed in ``ignored``. A motion statement this reader does not take
-(``GOFWD``, ``GOLFT``, ``GORGT``, ``GOBACK``, ``GOUP``, ``GODOWN``, ``GO``, ``MOVARC``,
-``PSIS``, ``CYCLE/`` other than ``OFF``), a bad number, a NaN/inf value, a zero axis, or a
+GOTOs are already in), ``PAINT/``, ``INDIRV/``, ``TOOL PATH/``, ``END-OF-PATH``, ``CUTCOM/OFF``, ``TRACUT/NOMORE``,
+``REFSYS/NOMORE``, ...) is counted and listed in ``ignored``. A motion statement this reader
+does not take (``GOFWD``, ``GOLFT``, ``GORGT``, ``GOBACK``, ``GOUP``, ``GODOWN``, ``GO``,
+``MOVARC``, ``PSIS``, ``CYCLE/`` other than ``OFF``), a statement that changes the motion of
+what follows (``TRANS``, ``ORIGIN``, ``ROTABL``, ``COPY``, ``INDEX``, ``ROTATE``, ``CUTCOM``,
+``RETRCT``, ``TRACUT``, ``REFSYS``, ``ROTHED``, but not their cancels above), a bad number, a NaN/inf value, a zero axis, or a
 file without a ``GOTO`` raises ``AptError`` with one line ``LINE n: what is wrong``.
 """
 
@@ -54,6 +56,11 @@ from ..cutters import Cutter, cutter_from_apt, make_cutter
 
 INCH = 25.4
 MOTION = frozenset("GOFWD GOLFT GORGT GOBACK GOUP GODOWN GO MOVARC PSIS DNTCUT".split())
+# statements that change where the following GOTOs put the tool (a frame, a copy, an offset, a
+# retract, a head or table turn); the argument that cancels one is harmless and stays ignored
+MOTION_CHANGE = {"TRANS": (), "ORIGIN": (), "ROTABL": (), "COPY": (), "INDEX": (), "ROTATE": (),
+                 "CUTCOM": ("OFF",), "RETRCT": (), "TRACUT": ("NOMORE",), "REFSYS": ("NOMORE",),
+                 "ROTHED": ()}
 SECTION = re.compile(r"^(?:ZONE\s+\S+\s+)?PASS\s+\S+", re.I)
 TOOLPOINT = re.compile(r"^TOOLPOINT\s+(TIP|CENTRE|CENTER)\b", re.I)
 STATEMENT = re.compile(r"^\s*([A-Za-z][A-Za-z0-9_\- ]*?)\s*(?:/(.*))?$")
@@ -241,6 +248,9 @@ class _Reader:
             self.info["tool_number"] = int(_numbers(nums[:1], line)[0]) if nums else None
         elif word in MOTION:
             raise AptError(line, f"motion statement {word} is not supported (GOTO, GODLTA, CIRCLE, RAPID, GOHOME are)")
+        elif word in MOTION_CHANGE and not (args and args[0].upper() in MOTION_CHANGE[word]):
+            raise AptError(line, f"{word} changes the motion of what follows and is not understood here "
+                                 "(have the CAM system write the moves with it applied)")
         elif word == "CYCLE" and not (args and args[0].upper() == "OFF"):
             raise AptError(line, "CYCLE/ (a canned cycle moves the tool) is not supported")
         elif word == "GODLTA":

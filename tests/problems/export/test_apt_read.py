@@ -1,5 +1,7 @@
 """APT CL files: what ``apt_write`` writes reads back as the same toolpath; bad files get one line."""
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -182,3 +184,40 @@ def test_words_with_spaces_need_their_slash(tmp_path):
     (tmp_path / "t.apt").write_text("CUTTER/6\nGOTO/0,0,0\nthis is not apt\n")
     with pytest.raises(AptError, match=r"^LINE 3: not an APT statement"):
         read_apt(tmp_path / "t.apt")
+
+
+# statements that change the motion of what follows: refused with their line, not counted as ignored
+MOTION_CHANGES = {
+    "TRANS/10,0,0": "TRANS", "ORIGIN/5,5,0": "ORIGIN", "ROTABL/90,CLW": "ROTABL", "COPY/1,SAME,2": "COPY",
+    "INDEX/1": "INDEX", "ROTATE/ZAXIS,90": "ROTATE", "CUTCOM/LEFT": "CUTCOM", "RETRCT": "RETRCT",
+    "TRACUT/MATRIX1": "TRACUT", "REFSYS/MAT1": "REFSYS", "ROTHED/ATANGL,30": "ROTHED",
+}
+
+
+@pytest.mark.parametrize("statement", sorted(MOTION_CHANGES))
+def test_statements_that_change_motion_are_refused_with_their_line(tmp_path, statement):
+    text = f"PARTNO X\nCUTTER/6\nFEDRAT/500\nGOTO/0,0,0\n{statement}\nGOTO/1,0,0\n"
+    (tmp_path / "m.apt").write_text(text)
+    with pytest.raises(AptError) as err:
+        read_apt(tmp_path / "m.apt")
+    msg = str(err.value)
+    assert "\n" not in msg and msg.startswith("LINE 5: ") and MOTION_CHANGES[statement] in msg, msg
+
+
+def test_cancelling_a_motion_change_is_not_refused(tmp_path):
+    # the cancel of a compensation or transformation that never started changes nothing
+    (tmp_path / "c.apt").write_text("CUTTER/6\nCUTCOM/OFF\nTRACUT/NOMORE\nFEDRAT/500\nGOTO/0,0,0\nGOTO/1,0,0\n")
+    tp = read_apt(tmp_path / "c.apt")
+    assert len(tp) == 2 and tp.ignored == {"CUTCOM": 1, "TRACUT": 1}
+
+
+def test_a_refused_statement_names_the_file_and_its_line(tmp_path, capsys):
+    from evoplan.cli import main
+
+    run = Path(__file__).resolve().parents[3] / "runs" / "fountas_toolpath_vega.yaml"
+    apt = tmp_path / "cam.apt"
+    apt.write_text("PARTNO X\nCUTTER/12,6\nFEDRAT/500\nGOTO/0,0,10\nTRANS/10,0,0\nGOTO/1,0,10\n")
+    out = tmp_path / "sim"
+    assert main(["simulate", str(run), "--apt", str(apt), "--out", str(out)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and f"{apt}: LINE 5: TRANS" in err[0] and not out.exists(), err
