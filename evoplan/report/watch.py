@@ -65,8 +65,18 @@ def serve(folder: Path, port: int = 0, timeout: float = 3600.0, poll: float = 0.
           out: Path | None = None, announce=print) -> str:
     """Serve until the run ends or ``timeout``; returns why it stopped (``finished``, ``timeout``)."""
     from ..engine import write_atomic
+    from ..errors import ConfigError
 
-    state = {"html": page_html(folder), "version": 0}
+    try:
+        server = ThreadingHTTPServer(("127.0.0.1", port), None)
+    except (OSError, OverflowError) as e:  # in use, not permitted, out of range
+        why = getattr(e, "strerror", None) or " ".join(str(e).split())
+        raise ConfigError(f"--port {port}: cannot serve on 127.0.0.1:{port} ({why})") from None
+    try:
+        state = {"html": page_html(folder), "version": 0}
+    except BaseException:
+        server.server_close()
+        raise
     lock = threading.Lock()
 
     class Handler(BaseHTTPRequestHandler):
@@ -88,7 +98,7 @@ def serve(folder: Path, port: int = 0, timeout: float = 3600.0, poll: float = 0.
         def log_message(self, *args):  # quiet
             pass
 
-    server = ThreadingHTTPServer(("127.0.0.1", port), Handler)
+    server.RequestHandlerClass = Handler
     thread = threading.Thread(target=server.serve_forever, daemon=True)
     thread.start()
     url = f"http://127.0.0.1:{server.server_address[1]}/"

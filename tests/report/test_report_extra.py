@@ -57,3 +57,21 @@ def test_decimation_stays_within_its_tolerance():
             assert _distance_to_polyline(p[sel], kept).max() <= tol + 1e-12
     keep, tol = fit_budget(p, run, 200)
     assert keep.sum() <= 200 and tol >= 0.005
+
+
+@pytest.mark.parametrize("watch", [[], ["--watch", "--timeout", "1"]])
+def test_out_naming_a_folder_is_one_line_and_exit_2(synth, tmp_path, capsys, watch):
+    out = tmp_path / "existing"
+    out.mkdir()
+    assert main(["report", str(synth["run"]), "--out", str(out), *watch]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and str(out) in err and "--out" in err and "folder" in err
+    assert "Traceback" not in err and list(out.iterdir()) == []
+
+
+def test_help_names_every_folder_kind(capsys):
+    with pytest.raises(SystemExit):
+        main(["report", "-h"])
+    text = " ".join(capsys.readouterr().out.split())
+    assert "DIR a run, study, simulate or machine results folder" in text
+    assert "machine folder (summary.json)" in text

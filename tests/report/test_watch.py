@@ -9,6 +9,8 @@ import threading
 import time
 import urllib.request
 
+import pytest
+
 from evoplan.report.watch import serve
 
 from .synth import synth  # noqa: F401 - the fixture
@@ -48,3 +50,31 @@ def test_watch_stops_at_its_timeout(synth, tmp_path):
     t0 = time.monotonic()
     assert serve(run, 0, 1.0, poll=0.1, announce=lambda m: None) == "timeout"
     assert time.monotonic() - t0 < 10
+
+
+@pytest.mark.parametrize("value", ["99999", "-1", "http"])
+def test_a_bad_port_is_one_usage_line_before_anything_is_served(value, synth, capsys):
+    from evoplan.cli import main
+
+    with pytest.raises(SystemExit) as stop:
+        main(["report", str(synth["run"]), "--watch", "--port", value, "--timeout", "1"])
+    err = capsys.readouterr().err
+    assert stop.value.code == 2 and err.count("\n") == 1 and "--port" in err and value in err
+    assert "Traceback" not in err and "serving" not in err
+
+
+def test_a_port_in_use_is_one_line_naming_it(synth, tmp_path, capsys):
+    import socket
+
+    from evoplan.cli import main
+
+    out = tmp_path / "r.html"
+    with socket.socket() as taken:
+        taken.bind(("127.0.0.1", 0))
+        taken.listen()
+        port = taken.getsockname()[1]
+        code = main(["report", str(synth["run"]), "--watch", "--port", str(port), "--timeout", "1",
+                     "--out", str(out)])
+    err = capsys.readouterr().err
+    assert code == 2 and err.count("\n") == 1 and f"--port {port}" in err and "Traceback" not in err
+    assert not out.exists()
