@@ -17,8 +17,9 @@ numbers, and the words:
 Words that do not move the tool are counted in ``ignored`` (``S``, ``T``, ``M``, ``H``, ``D``,
 ``G40 G54..G59 G80 G94 G64 G61``, ...). A motion word the reader does not take (canned
 cycles ``G81..G89``, ``G28`` reference returns, tilted working planes ``G68``/``G68.2``, an
-arc while a tilted plane or a non-vertical tool axis is active, polar ``G16``, ...) is refused
-with ``LINE n: ...`` (``GcodeError``).
+arc while a tilted plane or a non-vertical tool axis is active, polar ``G16``, the ``P`` word
+of a ``G2``/``G3`` move (extra full turns of a helix), a subprogram call ``M98``/``M198``, ...)
+is refused with ``LINE n: ...`` (``GcodeError``); a ``P`` on another block is counted.
 """
 
 from __future__ import annotations
@@ -37,6 +38,7 @@ WORD = re.compile(r"([A-Z])\s*([+-]?(?:\d+\.?\d*|\.\d+))")
 PAREN = re.compile(r"\([^()]*\)")
 IGNORED_G = {"40", "49", "54", "55", "56", "57", "58", "59", "80", "94", "64", "61", "15", "69", "98", "99",
              "43", "43.4", "54.1", "5.1", "8", "61.1", "13.1", "90.1", "91.1"}
+SUBPROGRAM_M = {98.0, 198.0}  # Fanuc subprogram calls (in memory, external)
 REFUSED_G = {"28": "a reference return (G28)", "30": "a reference return (G30)", "16": "polar coordinates (G16)",
              "68": "a rotated plane (G68)", "68.2": "a tilted working plane (G68.2)", "17.1": "a tilted plane",
              "2.1": "a spiral", "12.1": "polar interpolation", "7.1": "cylindrical interpolation"}
@@ -89,6 +91,7 @@ def read_gcode(path: str | Path, cutter, kinematics=None,
         new_rot = {}
         setting = False  # a block whose X Y Z I J K are parameters (G68 / G68.2 plane definition)
         line_motion = False  # the block names G0 / G1 / G2 / G3
+        p_word = None
         for letter, value in words:
             if letter == "G":
                 g = value.lstrip("0") or "0"
@@ -131,10 +134,19 @@ def read_gcode(path: str | Path, cutter, kinematics=None,
             elif letter in "ABCUVW":
                 raise GcodeError(n, f"rotary word {letter} without the machine's kinematics"
                                  if not rot else f"word {letter} is not an axis of this machine ({', '.join(rot)})")
-            elif letter in "NSTMHDPQLE":
+            elif letter == "M" and float(value) in SUBPROGRAM_M:
+                raise GcodeError(n, f"M{value} calls a subprogram: its motion is not in this file")
+            elif letter == "P":
+                p_word = value
+            elif letter in "NSTMHDQLE":
                 ign(letter)
             else:
                 raise GcodeError(n, f"unknown word {letter}{value}")
+        if p_word is not None:
+            if motion in ("2", "3") and (line_motion or target or new_rot):
+                raise GcodeError(n, f"the P word (P{p_word}) of a G{motion} arc asks for extra full turns, "
+                                    "which are not taken")
+            ign("P")
         if setting:
             if line_motion:  # its X Y Z would be the plane's parameters, not the move's end
                 raise GcodeError(n, "a motion word G0-G3 in a plane-definition block (G68 / G68.2 / G17.1)")

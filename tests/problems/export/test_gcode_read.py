@@ -155,3 +155,23 @@ def test_simulate_measures_a_fanuc_program_as_the_plan(tmp_path, capsys):
                  str(tmp_path / "c")]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "--tool" in err[0] and not (tmp_path / "c").exists()
+
+
+@pytest.mark.parametrize("text,line,words", [
+    # the P word of a G2 / G3 asks for extra full turns (a helix); reading the arc once would drop them
+    ("G90 G17\nG0 X10 Y0 Z0\nG2 X10 Y0 I-10 J0 Z-6 P3 F300\n", 3, "P word"),
+    ("G90 G17\nG0 X10 Y0 Z0\nG3 X0 Y10 I-10 F300\nX-10 Y0 P2\n", 4, "P word"),
+    # a subprogram call runs motion the reader does not see
+    ("G90\nG0 X0 Y0 Z5\nM98 P1234\n", 3, "M98"),
+])
+def test_words_that_change_motion_are_refused_with_their_line(tmp_path, text, line, words):
+    (tmp_path / "p.nc").write_text(text)
+    with pytest.raises(GcodeError) as err:
+        read_gcode(tmp_path / "p.nc", make_cutter(10.0, 0.0))
+    assert str(err.value).startswith(f"LINE {line}: ") and words in str(err.value), str(err.value)
+
+
+def test_a_dwell_p_word_is_still_ignored(tmp_path):
+    (tmp_path / "d.nc").write_text("G90 G17\nG0 X10 Y0 Z0\nG1 X0 F100\nG2 X-10 Y0 I-5 F100\nM3 S1000 P1\n")
+    tp = read_gcode(tmp_path / "d.nc", make_cutter(10.0, 0.0))
+    assert tp.ignored.get("P") == 1 and np.allclose(tp.tip[-1], [-10, 0, 0])
