@@ -11,6 +11,7 @@ from ..errors import ConfigError
 from ..units import GENE_UNITS
 from .folder import read_csv, read_json
 from .page import Section, note, table
+from .units import is_number
 
 #: units of the toolpath problem's decisions (problems/toolpath/genes.py)
 DECISION_UNITS = {**GENE_UNITS, "tool": "index in the tool list"}
@@ -86,7 +87,7 @@ def best_table(path: Path) -> str:
             domain = "{" + ", ".join(str(c) for c in gene["choices"]) + "}"
         else:
             domain = ""
-        rows.append([name, value, DECISION_UNITS.get(name, ""), domain])
+        rows.append([name, value, DECISION_UNITS.get(name, "") if is_number(value) else "", domain])
     rows.append(["objective", best.get("objective"), "", "minimized"])
     facts = [f"{k} {best[k]}" for k in ("problem", "algorithm", "seed", "generations",
                                         "evaluations", "stop_reason") if k in best]

@@ -8,15 +8,29 @@ from pathlib import Path
 
 from .folder import read_json
 from .page import Section, note, table
+from .units import is_number
 
 #: unit by the key's suffix (simulation.json spells its units in the key: scallop_max_mm)
 SUFFIX_UNITS = {"_mm": "mm", "_mm2": "mm²", "_seconds": "s", "seconds": "s", "_fraction": "fraction"}
+#: the cutter's numbers (``Cutter.to_dict``): lengths in mm, a tapered ball's taper_angle in degrees
+CUTTER_UNITS = {"diameter": "mm", "corner_radius": "mm", "taper_angle": "deg"}
 PNGS = ("deviation_map.png", "deviation_hist.png")
 
 
 def unit(key: str) -> str:
     return next((u for s, u in sorted(SUFFIX_UNITS.items(), key=lambda kv: -len(kv[0]))
                  if key.endswith(s)), "")
+
+
+def field_unit(prefix: str, key: str, value) -> str:
+    """The unit of one ``simulation.json`` field: none unless its value is a number (a cutter's
+    ``type`` is a name); else by the key's suffix, a cutter's by :data:`CUTTER_UNITS` (an
+    unknown cutter number: degrees if its name says angle, else mm)."""
+    if not is_number(value):
+        return ""
+    if prefix == "cutter.":
+        return CUTTER_UNITS.get(key, "deg" if "angle" in key else "mm")
+    return unit(key)
 
 
 def flat(data: dict, prefix: str = "") -> list[list]:
@@ -27,8 +41,7 @@ def flat(data: dict, prefix: str = "") -> list[list]:
         if isinstance(value, dict):
             rows += flat(value, name + ".")
         elif isinstance(value, (int, float, str, bool)) or value is None:
-            rows.append([name, "" if value is None else value, unit(key) or
-                         ("mm" if prefix == "cutter." else "")])
+            rows.append([name, "" if value is None else value, field_unit(prefix, key, value)])
     return rows
 
 

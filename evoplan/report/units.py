@@ -18,5 +18,10 @@ def criterion_unit(name: str) -> str:
         return ""
 
 
+def is_number(value) -> bool:
+    """Only a number carries a unit: a name (a cutter's ``type``), a flag or a text has none."""
+    return isinstance(value, (int, float)) and not isinstance(value, bool)
+
+
 def labelled(name: str, unit: str) -> str:
     return f"{name} ({unit})" if unit else name

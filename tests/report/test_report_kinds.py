@@ -41,8 +41,8 @@ def test_simulate_report_measures_with_units_and_figures(tmp_path, capsys):
     from PIL import Image
 
     record = {"plan": "p", "scallop_max_mm": 0.03, "scallop_p99_mm": 0.02, "scallop_mean_mm": 0.01,
-              "gouge_max_mm": 0.0, "seconds": 1.5, "cutter": {"diameter": 12.0, "corner_radius": 0.0},
-              "zones": [{"zone": 0, "scallop_max_mm": 0.03}]}
+              "gouge_max_mm": 0.0, "seconds": 1.5, "cutter": {"type": "flat", "diameter": 12.0, "corner_radius": 0.0},
+              "mesh_mm": "n/a", "converged": True, "zones": [{"zone": 0, "scallop_max_mm": 0.03}]}
     (tmp_path / "simulation.json").write_text(json.dumps(record))
     Image.new("RGB", (8, 8), "red").save(tmp_path / "deviation_map.png")
     assert main(["report", str(tmp_path)]) == 0
@@ -51,6 +51,10 @@ def test_simulate_report_measures_with_units_and_figures(tmp_path, capsys):
     assert bars[0]["x"] == ["p99", "max", "mean"] and values(bars[0]["y"]) == [0.02, 0.03, 0.01]
     assert "<td>scallop_max_mm</td><td class=\"num\">0.03</td><td>mm</td>" in html
     assert "<td>cutter.diameter</td><td class=\"num\">12</td><td>mm</td>" in html
+    # a name, a flag or a text carries no unit, whatever the key's suffix says
+    assert "<tr><td>cutter.type</td><td>flat</td><td></td></tr>" in html
+    assert "<tr><td>mesh_mm</td><td>n/a</td><td></td></tr>" in html
+    assert "<tr><td>converged</td><td>True</td><td></td></tr>" in html
     assert "<th>scallop_max_mm (mm)</th>" in html
     assert 'src="data:image/png;base64,' in html
 
@@ -60,3 +64,20 @@ def test_bad_simulation_json_is_one_line(tmp_path, capsys):
     assert main(["report", str(tmp_path)]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "simulation.json" in err and not (tmp_path / "report.html").exists()
+
+
+def test_cutter_numbers_carry_their_own_units():
+    from evoplan.report.simulate import flat
+
+    rows = flat({"cutter": {"type": "tapered_ball", "diameter": 6.0, "corner_radius": 1.5, "taper_angle": 5.0}})
+    assert rows == [["cutter.type", "tapered_ball", ""], ["cutter.diameter", 6.0, "mm"],
+                    ["cutter.corner_radius", 1.5, "mm"], ["cutter.taper_angle", 5.0, "deg"]]
+
+
+def test_a_decision_named_by_text_has_no_unit(tmp_path):
+    from evoplan.report.run import best_table
+
+    (tmp_path / "best.json").write_text(json.dumps({"variables": {"step": 0.5, "lead": "auto"}, "objective": 1.0}))
+    html = best_table(tmp_path / "best.json")
+    assert '<tr><td>step</td><td class="num">0.5</td><td>mm</td>' in html
+    assert "<tr><td>lead</td><td>auto</td><td></td>" in html
