@@ -1,7 +1,8 @@
 """Reading an APT CL file (ours or another CAM system's) back into a toolpath.
 
 Syntax handled: a statement is ``WORD`` or ``WORD/arg,arg,...``; a line ending in a single
-``$`` continues on the next line; ``$$`` starts a comment (to the end of the line); keywords
+``$`` continues on the next line; ``$$`` starts a comment (to the end of the line, or on the
+next lines while a comment-only line ends in ``$``: Creo's ``$$-> CSYS / ...``); keywords
 are case-insensitive; blank lines are skipped; reading stops at ``FINI``.
 
 Statements with meaning here:
@@ -101,13 +102,25 @@ class AptToolpath:
 
 
 def _statements(text: str):
-    """(first line number, statement text, comment text or None) with continuations joined."""
-    pending, first = "", 0
+    """(first line number, statement text, comment text or None) with continuations joined.
+
+    A comment-only line whose text ends in a single ``$`` (Creo's ``$$-> CSYS / ..., $``)
+    continues as comment on the next lines, up to one that does not end in ``$``."""
+    pending, first, note = "", 0, None
     for n, raw in enumerate(text.splitlines(), 1):
+        if note is not None:  # a continued comment: this line is its text, with or without $$
+            body = raw.strip()
+            note += " " + (body[2:] if body.startswith("$$") else body).rstrip("$").strip()
+            if not _continues(body):
+                yield first, "", note.strip()
+                note = None
+            continue
         code, sep, comment = raw.partition("$$")
         code = code.strip()
         if not code:
-            if sep:
+            if sep and not pending and _continues(comment.strip()):
+                first, note = n, comment.strip()[:-1]
+            elif sep:
                 yield n, "", comment.strip()
             continue
         if not pending:
@@ -117,8 +130,15 @@ def _statements(text: str):
             continue
         yield first, pending + code, None
         pending = ""
+    if note is not None:
+        yield first, "", note.strip()
     if pending:
         yield first, pending, None
+
+
+def _continues(text: str) -> bool:
+    """The line's text ends in a single ``$`` (``$$`` closes a comment, e.g. ``$$ *** $$``)."""
+    return text.endswith("$") and not text.endswith("$$")
 
 
 def _numbers(args: list[str], line: int, scale: float = 1.0) -> list[float]:

@@ -221,3 +221,37 @@ def test_a_refused_statement_names_the_file_and_its_line(tmp_path, capsys):
     assert main(["simulate", str(run), "--apt", str(apt), "--out", str(out)]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and f"{apt}: LINE 5: TRANS" in err[0] and not out.exists(), err
+
+
+CREO_HEAD = """$$* Pro/CLfile Version Creo 8.0
+PARTNO / PRT0001
+$$->FEATNO / 35
+UNITS / MM
+LOADTL / 1
+CUTTER / 10.000000
+$$-> CSYS / 1.0000000000, 0.0000000000, 0.0000000000, 0.0000000000, $
+        0.0000000000, 1.0000000000, 0.0000000000, 0.0000000000, $
+        0.0000000000, 0.0000000000, 1.0000000000, 0.0000000000
+$$-> CSYS / 1.0, 0.0, 0.0, 0.0, $
+$$->        0.0, 1.0, 0.0, 0.0, $
+$$->        0.0, 0.0, 1.0, 0.0
+$$ ******** $$
+SPINDL / RPM, 1000.000000,  CLW
+FEDRAT / 500.000000,  MMPM
+"""
+
+
+def test_a_creo_comment_continued_with_dollar_is_comment_on_all_its_lines(tmp_path):
+    (tmp_path / "creo.ncl").write_text(CREO_HEAD + "GOTO / 1.0, 2.0, 3.0\nFINI\n")
+    tp = read_apt(tmp_path / "creo.ncl")
+    assert tp.tip.tolist() == [[1, 2, 3]] and tp.ignored == {} and tp.spindle_rpm == 1000
+    # what follows a continued comment is read as statements again
+    (tmp_path / "bad.ncl").write_text(CREO_HEAD + "GOTO / 1.0, 2.0, 3.0\nnot apt\n")
+    with pytest.raises(AptError, match=r"^LINE 17: not an APT statement"):
+        read_apt(tmp_path / "bad.ncl")
+
+
+def test_a_goto_split_over_two_lines_reads_to_its_point(tmp_path):
+    (tmp_path / "g.ncl").write_text(CREO_HEAD + "GOTO / 1.5, 2.0, $\n   -3.25\nGOTO / 4, 5, 6\n")
+    tp = read_apt(tmp_path / "g.ncl")
+    assert tp.tip.tolist() == [[1.5, 2.0, -3.25], [4, 5, 6]]
