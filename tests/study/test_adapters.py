@@ -146,3 +146,19 @@ def test_deap_adapter_ignores_other_draws_from_the_global_generator():
     finally:
         sys.setswitchinterval(switch)
     assert results[0] == results[1]
+
+
+def test_deap_takes_pymoos_pop_size_through_minimize():
+    import evoplan
+    from evoplan.errors import ConfigError
+
+    run_ = lambda **kw: evoplan.minimize("sphere", "deap_easimple", termination={"generations": 3}, seed=4, **kw)  # noqa: E731
+    by_alias, by_name = run_(pop_size=9), run_(population=9)
+    assert by_alias.history["evaluations"].iloc[0] == 9                  # the first population: 9 rows
+    assert by_alias.history["evaluations"].tolist() == by_name.history["evaluations"].tolist()
+    assert by_alias.F.tolist() == by_name.F.tolist() and by_alias.X.tolist() == by_name.X.tolist()
+    assert run_(pop_size=9, population=9).history["evaluations"].iloc[0] == 9    # the same value twice: fine
+    with pytest.raises(ConfigError) as bad:
+        run_(pop_size=8, population=10)
+    msg = str(bad.value)
+    assert "\n" not in msg and "pop_size 8" in msg and "population 10" in msg
