@@ -4,7 +4,8 @@ Points are in machining order; the flags say how the tool moves INTO each point:
 ``rapid`` (positioning, no cut), ``plunge`` (cutting at the plunge feed), else cutting at the
 operation's feed. ``section`` is the pass or layer a point belongs to (-1 for approach and
 retract moves); ``section_names`` may name a section (e.g. ``ZONE 2 PASS 7``) for the comment
-that opens it.
+that opens it. Without a ``plunge_feed``, the plunges are cut at the tool's ``plunge_feed`` or,
+if it has none, at half the feed (the APT and the NC programs of a plan share it).
 """
 
 from __future__ import annotations
@@ -87,7 +88,7 @@ class Toolpath:
         rapid = np.r_[True, np.zeros(m, bool), True]
         plunge = np.r_[False, True, np.zeros(m, bool)]
         return cls(name, tool, pts, ax, rapid, plunge, np.r_[-1, pass_index, -1], feed,
-                   0.5 * feed if plunge_feed is None else plunge_feed, comments=list(comments or []))
+                   _plunge_feed(tool, feed, plunge_feed), comments=list(comments or []))
 
     @classmethod
     def from_sections(cls, name: str, tool: Tool, tip, axis, section, *, feed: float,
@@ -117,9 +118,15 @@ class Toolpath:
             pieces.append(([[last[0], last[1], safe]], axis[b - 1:b], [True], [False], [-1]))
         pts, ax, rapid, plunge, sec = (np.concatenate([np.asarray(p[i]) for p in pieces])
                                        for i in range(5))
-        return cls(name, tool, pts, ax, rapid, plunge, sec, feed,
-                   0.5 * feed if plunge_feed is None else plunge_feed,
+        return cls(name, tool, pts, ax, rapid, plunge, sec, feed, _plunge_feed(tool, feed, plunge_feed),
                    comments=list(comments or []), section_names=dict(section_names or {}))
+
+
+def _plunge_feed(tool: Tool, feed: float, plunge_feed: float | None) -> float:
+    """The plunge feed given, else the tool's ``plunge_feed``, else half ``feed`` (mm/min)."""
+    if plunge_feed is not None:
+        return plunge_feed
+    return tool.plunge_feed if getattr(tool, "plunge_feed", None) is not None else 0.5 * feed
 
 
 def drop_collinear(points: np.ndarray, tol: float) -> np.ndarray:

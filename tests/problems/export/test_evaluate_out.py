@@ -42,3 +42,19 @@ def test_a_three_axis_post_for_a_five_axis_plan_writes_nothing(tmp_path, capsys)
     assert len(err) == 1 and "3-axis post" in err[0] and not out.exists()
     assert main(["evaluate", str(RUN), *SETS, "--out", str(out), "--post", "okuma"]) == 2
     assert "unknown post" in capsys.readouterr().err and not out.exists()
+
+
+def test_the_apt_plunges_at_the_tools_plunge_feed_as_the_nc_program_does(tmp_path, capsys):
+    text = RUN.read_text().replace(
+        "    feed_rate: 1000\n",
+        "    feed_rate: 1000\n    tools: [{diameter: 12, corner_radius: 6, feed: 800, plunge_feed: 123}]\n")
+    run = tmp_path / "run.yaml"
+    run.write_text(text)
+    out = tmp_path / "ev"
+    assert main(["evaluate", str(run), *SETS[2:], "--out", str(out), "--post", "fanuc"]) == 0
+    apt = read_apt(out / "toolpath.apt")
+    cut = ~apt.rapid
+    plunge = cut & np.r_[False, apt.rapid[:-1]]  # the first feed move after a rapid
+    assert plunge.sum() > 1 and np.all(apt.feed[plunge] == 123) and np.all(apt.feed[cut & ~plunge] == 800)
+    nc = (out / "program.nc").read_text()
+    assert nc.count("F123.") == plunge.sum() and "FEDRAT/123.0000,MMPM" in (out / "toolpath.apt").read_text()
