@@ -3,6 +3,8 @@
 - **Colours**: the Okabe-Ito palette (8 colours told apart with the common colour-vision
   deficiencies); variant ``i`` takes colour ``i mod 8``, marker ``i mod 7`` and a dashed line
   from the ninth on, so up to 56 variants differ in colour *and* marker, and 16 in all three.
+- **Zones** of a plan take the palette without its black (:func:`zone_colors`), up to 7;
+  more zones than that take matplotlib's tab20 (20 hues; the black borders tell them apart).
 - **Legends** go outside the data, to the right of the axes (:func:`legend_outside`).
 - **Units**: :func:`label` names a criterion with its unit (``machining error (mm)``), and
   :func:`gene_text` a decision with its own (``step-over 30 % of D``, ``lead 2°``); lengths
@@ -32,6 +34,8 @@ MARKERS = ("o", "s", "^", "D", "v", "P", "X")
 LINESTYLES = ("-", "--", ":", "-.")
 #: points drawn over a box when it holds at most this many values
 POINTS_UP_TO = 30
+#: the resolution of every figure (:func:`figure`), hence of every PNG (:func:`png`)
+DPI = 110
 
 #: units of the criteria evoplan reports (toolpath problems), by name
 UNITS = {
@@ -46,6 +50,16 @@ def variant_style(i: int) -> dict:
     """Colour, marker and line style of variant ``i`` (see the module docstring)."""
     return {"color": PALETTE[i % len(PALETTE)], "marker": MARKERS[i % len(MARKERS)],
             "linestyle": LINESTYLES[(i // len(PALETTE)) % len(LINESTYLES)]}
+
+
+def zone_colors(n: int) -> list:
+    """Fill / pass colours of ``n`` zones (see the module docstring), as RGBA tuples."""
+    from matplotlib.colors import to_rgba
+
+    if n <= len(PALETTE) - 1:
+        return [to_rgba(c) for c in PALETTE[:-1][:max(n, 1)]]
+    cmap = plt.get_cmap("tab20", n)
+    return [tuple(cmap(i)) for i in range(n)]
 
 
 def label(name: str, unit: str | None = None) -> str:
@@ -130,7 +144,7 @@ def figure(n: int = 1, width: float = 4.6, height: float = 3.4, cols: int = 3):
     """A figure with ``n`` panels on a grid of at most ``cols`` columns; ``(fig, [axes])``."""
     cols = max(1, min(n, cols))
     rows = -(-n // cols)
-    fig, axes = plt.subplots(rows, cols, figsize=(width * cols, height * rows), dpi=110, squeeze=False)
+    fig, axes = plt.subplots(rows, cols, figsize=(width * cols, height * rows), dpi=DPI, squeeze=False)
     for ax in axes.flat[n:]:
         ax.set_visible(False)
     for ax in axes.flat[:n]:

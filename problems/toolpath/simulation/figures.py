@@ -4,17 +4,17 @@ left and what is gouged, the analog of Fountas' Fig. 8) and the deviation histog
 Both use a symmetric diverging scale in mm (blue: gouge, below the design surface; red:
 material left), mark the tolerance band +-``tolerance``, and show the cells no pose
 reached (uncut, stock left) in grey. Zone borders of a zoned plan are drawn in black.
+Both are drawn in the shared style (:mod:`evoplan.figure_style`: its figure, resolution,
+palette and PNG output); ``*_figure`` returns the matplotlib figure, ``*_png`` its PNG bytes.
 """
 
 from __future__ import annotations
-
-import io
 
 import numpy as np
 
 from .design import DesignGrid
 
-__all__ = ["deviation_map_png", "deviation_hist_png"]
+__all__ = ["deviation_map_figure", "deviation_map_png", "deviation_hist_figure", "deviation_hist_png"]
 
 
 def _scale(values: np.ndarray, tolerance: float) -> float:
@@ -23,22 +23,11 @@ def _scale(values: np.ndarray, tolerance: float) -> float:
     return max(top, 2.0 * tolerance, 1e-3)
 
 
-def _png(fig) -> bytes:
-    import matplotlib.pyplot as plt
+def deviation_map_figure(grid: DesignGrid, residual: np.ndarray, *, tolerance: float,
+                         allowance: float, labels: np.ndarray | None = None, title: str = ""):
+    """The deviation map (see the module docstring)."""
+    from evoplan.figure_style import figure  # sets the Agg backend before pyplot loads
 
-    buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=130, bbox_inches="tight")
-    plt.close(fig)
-    return buf.getvalue()
-
-
-def deviation_map_png(grid: DesignGrid, residual: np.ndarray, *, tolerance: float,
-                      allowance: float, labels: np.ndarray | None = None, title: str = "") -> bytes:
-    """The deviation map as PNG bytes (see the module docstring)."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
     from matplotlib.colors import ListedColormap
     from matplotlib.patches import Patch
 
@@ -48,7 +37,8 @@ def deviation_map_png(grid: DesignGrid, residual: np.ndarray, *, tolerance: floa
     vmax = _scale(shown, tolerance)
     extent = (grid.x0 - grid.h / 2, grid.x0 + (grid.shape[1] - 0.5) * grid.h,
               grid.y0 - grid.h / 2, grid.y0 + (grid.shape[0] - 0.5) * grid.h)
-    fig, ax = plt.subplots(figsize=(8.0, 6.5))
+    fig, (ax,) = figure(1, width=8.0, height=6.5)
+    ax.grid(False)
     im = ax.imshow(shown, origin="lower", extent=extent, cmap="RdBu_r", vmin=-vmax, vmax=vmax,
                    interpolation="nearest")
     ax.imshow(np.where(uncut, 1.0, np.nan), origin="lower", extent=extent,
@@ -79,30 +69,44 @@ def deviation_map_png(grid: DesignGrid, residual: np.ndarray, *, tolerance: floa
     ax.set_ylabel("y (mm)")
     ax.set_aspect("equal")
     ax.set_title(title or "simulated cut: deviation from the design surface", fontsize=10)
-    return _png(fig)
+    return fig
 
 
-def deviation_hist_png(grid: DesignGrid, residual: np.ndarray, *, tolerance: float,
-                       allowance: float, title: str = "") -> bytes:
-    """Area-weighted histogram of the deviation (PNG bytes); uncut cells counted apart."""
-    import matplotlib
+def deviation_map_png(grid: DesignGrid, residual: np.ndarray, *, tolerance: float,
+                      allowance: float, labels: np.ndarray | None = None, title: str = "") -> bytes:
+    """:func:`deviation_map_figure` as PNG bytes."""
+    from evoplan.figure_style import png
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    return png(deviation_map_figure(grid, residual, tolerance=tolerance, allowance=allowance,
+                                    labels=labels, title=title))
+
+
+def deviation_hist_figure(grid: DesignGrid, residual: np.ndarray, *, tolerance: float,
+                          allowance: float, title: str = ""):
+    """Area-weighted histogram of the deviation; uncut cells counted apart (in the title)."""
+    from evoplan.figure_style import PALETTE, figure
 
     area = grid.cell_area()
     keep = grid.inside & (residual < allowance)
     uncut = float(area[grid.inside & ~(residual < allowance)].sum() / max(area.sum(), 1e-300))
     vals, w = residual[keep], area[keep]
     vmax = _scale(vals, tolerance)
-    fig, ax = plt.subplots(figsize=(7.0, 4.0))
+    fig, (ax,) = figure(1, width=7.0, height=4.0)
     ax.hist(np.clip(vals, -vmax, vmax), bins=120, range=(-vmax, vmax),
-            weights=100.0 * w / max(area.sum(), 1e-300), color="#0072B2")
+            weights=100.0 * w / max(area.sum(), 1e-300), color=PALETTE[4])
     for v in (-tolerance, tolerance):
-        ax.axvline(v, color="#D55E00", lw=1.0, ls="--")
+        ax.axvline(v, color=PALETTE[5], lw=1.0, ls="--")
     ax.axvline(0.0, color="black", lw=0.6)
     ax.set_xlabel(f"deviation along the normal (mm), clipped to +-{vmax:.3g}")
     ax.set_ylabel("share of the part's area (%)")
     ax.set_title(title or f"deviation histogram (dashed: +-{tolerance:g} mm; uncut "
                  f"{100 * uncut:.2f} % of the area, not shown)", fontsize=10)
-    return _png(fig)
+    return fig
+
+
+def deviation_hist_png(grid: DesignGrid, residual: np.ndarray, *, tolerance: float,
+                       allowance: float, title: str = "") -> bytes:
+    """:func:`deviation_hist_figure` as PNG bytes."""
+    from evoplan.figure_style import png
+
+    return png(deviation_hist_figure(grid, residual, tolerance=tolerance, allowance=allowance, title=title))

@@ -2,13 +2,11 @@
 
 from __future__ import annotations
 
-import io
-
 import numpy as np
 
 from .samples import SurfaceSamples
 
-__all__ = ["border_segments", "pass_segments", "zone_map_png"]
+__all__ = ["border_segments", "pass_segments", "zone_map_figure", "zone_map_png"]
 
 
 def pass_segments(samples: SurfaceSamples, cell_zone: np.ndarray, zone: int, passes) -> list:
@@ -46,28 +44,28 @@ def border_segments(labels: np.ndarray, corners: np.ndarray) -> np.ndarray:
     return np.concatenate([across_u, across_v])
 
 
-def zone_map_png(surface, plan, samples: SurfaceSamples, title: str = "") -> bytes:
-    """PNG bytes: the zones in plan view (XY) coloured by zone, with their passes and the
-    zone borders."""
-    import matplotlib
+def zone_map_figure(surface, plan, samples: SurfaceSamples, title: str = ""):
+    """The zones in plan view (XY) coloured by zone (:func:`evoplan.figure_style.zone_colors`),
+    with their passes and the zone borders, in the shared figure style."""
+    from evoplan.figure_style import figure, zone_colors  # sets the Agg backend before pyplot loads
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
     from matplotlib.collections import LineCollection
+    from matplotlib.colors import ListedColormap
 
     labels = plan.labels
     n, m = labels.shape
     gu, gv = np.meshgrid(np.linspace(0, 1, n + 1), np.linspace(0, 1, m + 1), indexing="ij")
     corners = surface.points(gu.ravel(), gv.ravel()).reshape(n + 1, m + 1, 3)
     cell_zone = labels.ravel()[samples.cell(n, m)]
-    fig, ax = plt.subplots(figsize=(7.5, 8), dpi=110)
-    cmap = plt.get_cmap("tab20", max(len(plan.zones), 1))
-    ax.pcolormesh(corners[..., 0], corners[..., 1], labels, cmap=cmap, alpha=0.45,
-                  vmin=-0.5, vmax=len(plan.zones) - 0.5, shading="flat")
+    fig, (ax,) = figure(1, width=7.5, height=8)
+    ax.grid(False)
+    colors = zone_colors(len(plan.zones))
+    ax.pcolormesh(corners[..., 0], corners[..., 1], labels, cmap=ListedColormap(colors), alpha=0.45,
+                  vmin=-0.5, vmax=len(colors) - 0.5, shading="flat")
     ax.add_collection(LineCollection(border_segments(labels, corners), colors="k", linewidths=1.2))
     for z in plan.zones:
         segs = pass_segments(samples, cell_zone, z.zone, z.passes)
-        ax.add_collection(LineCollection(segs, colors=[cmap(z.zone)], linewidths=0.7))
+        ax.add_collection(LineCollection(segs, colors=[colors[z.zone % len(colors)]], linewidths=0.7))
         inside = labels == z.zone
         cx = corners[:-1, :-1, 0][inside].mean()
         cy = corners[:-1, :-1, 1][inside].mean()
@@ -79,8 +77,11 @@ def zone_map_png(surface, plan, samples: SurfaceSamples, title: str = "") -> byt
     ax.set_ylabel("Y (mm)")
     ax.set_title(title or f"{plan.method}: {len(plan.zones)} zones, "
                           f"total {plan.total_length:.0f} mm (Eq. 4)")
-    buf = io.BytesIO()
-    fig.tight_layout()
-    fig.savefig(buf, format="png")
-    plt.close(fig)
-    return buf.getvalue()
+    return fig
+
+
+def zone_map_png(surface, plan, samples: SurfaceSamples, title: str = "") -> bytes:
+    """:func:`zone_map_figure` as PNG bytes (:func:`evoplan.figure_style.png`)."""
+    from evoplan.figure_style import png
+
+    return png(zone_map_figure(surface, plan, samples, title))
