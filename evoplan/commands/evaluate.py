@@ -82,7 +82,8 @@ def phenotype(space, values: dict[str, Any]) -> np.ndarray:
 def main(args: argparse.Namespace) -> int:
     import numpy as np
 
-    from ..runner import prepare_file
+    from ..config import load_config
+    from ..runner import prepare
 
     if args.post and not args.out:
         raise EvoplanError("--post: give --out DIR for the NC program")
@@ -95,9 +96,13 @@ def main(args: argparse.Namespace) -> int:
 
         if args.post not in POSTS:
             raise EvoplanError(f"--post {args.post!r}: unknown post (known: {', '.join(sorted(POSTS))})")
-    prepared = prepare_file(args.config)
+    values = parse_assignments(args.values)
+    config = load_config(args.config)
+    if args.post:
+        _check_post(args.config, config, values)
+    prepared = prepare(config, str(args.config))
     space = prepared.space
-    X = phenotype(space, parse_assignments(args.values))
+    X = phenotype(space, values)
     problem = prepared.evaluator.problem
     result = prepared.evaluator(X)
     report: dict[str, Any] = {"variables": space.named(X[0]), "objective": _plain(result.f[0])}
@@ -121,6 +126,33 @@ def main(args: argparse.Namespace) -> int:
         write_folder(Path(args.out), files)
     print(json.dumps(report, indent=2))
     return 0
+
+
+def _check_post(path: str, config, values: dict) -> None:
+    """What ``--post`` needs of the run file, refused before any planning: the feed of the
+    plan's tool (its ``feed``, else ``feed_rate``; a tools entry may leave it out for
+    optimization runs, not for an NC program)."""
+    params = config.problem.params
+    if config.problem.name != "toolpath" or "feed_rate" in params:
+        return
+    tools = params.get("tools")
+    if not isinstance(tools, list):
+        raise ConfigError(f"{path}: problem.params.feed_rate: missing (--post writes an NC program and the "
+                          "default tools have no feed: give feed_rate, mm/min, or tools with their feed)")
+    for i in _plan_tools(tools, values, params):
+        if isinstance(tools[i], dict) and tools[i].get("feed") is None:
+            raise ConfigError(f"{path}: problem.params.tools[{i}].feed: missing (--post writes an NC program: "
+                              "give the tool its feed, mm/min, or problem.params.feed_rate)")
+
+
+def _plan_tools(tools: list, values: dict, params: dict) -> list[int]:
+    """Positions in ``tools`` of the tool the plan uses (``--set tool=ID``, ``fixed: {tool:
+    ID}``, or the only one); every position when that is not known here."""
+    fixed = params.get("fixed")
+    tool_id = values.get("tool", fixed.get("tool") if isinstance(fixed, dict) else None)
+    ids = [t.get("id", i + 1) if isinstance(t, dict) else None for i, t in enumerate(tools)]
+    hits = [i for i, x in enumerate(ids) if tool_id is not None and str(x) == str(tool_id)]
+    return hits or list(range(len(tools)))
 
 
 def _plan_files(args, problem, X) -> dict[str, bytes]:

@@ -45,9 +45,9 @@ def test_a_three_axis_post_for_a_five_axis_plan_writes_nothing(tmp_path, capsys)
 
 
 def test_the_apt_plunges_at_the_tools_plunge_feed_as_the_nc_program_does(tmp_path, capsys):
+    # no feed_rate: the tool's own feed is the plan's
     text = RUN.read_text().replace(
-        "    feed_rate: 1000\n",
-        "    feed_rate: 1000\n    tools: [{diameter: 12, corner_radius: 6, feed: 800, plunge_feed: 123}]\n")
+        "    feed_rate: 1000\n", "    tools: [{diameter: 12, corner_radius: 6, feed: 800, plunge_feed: 123}]\n")
     run = tmp_path / "run.yaml"
     run.write_text(text)
     out = tmp_path / "ev"
@@ -58,3 +58,23 @@ def test_the_apt_plunges_at_the_tools_plunge_feed_as_the_nc_program_does(tmp_pat
     assert plunge.sum() > 1 and np.all(apt.feed[plunge] == 123) and np.all(apt.feed[cut & ~plunge] == 800)
     nc = (out / "program.nc").read_text()
     assert nc.count("F123.") == plunge.sum() and "FEDRAT/123.0000,MMPM" in (out / "toolpath.apt").read_text()
+
+
+def test_an_nc_program_needs_the_feed_of_its_tool_from_the_run_file(tmp_path, capsys):
+    cases = {  # tools (None: the default nine, which have no feed) -> the key named
+        None: "problem.params.feed_rate: missing",
+        "[{diameter: 12, corner_radius: 6}]": "problem.params.tools[0].feed: missing",
+        "[{id: 4, diameter: 12, feed: 900}, {id: 7, diameter: 12, corner_radius: 6}]": "problem.params.tools[1].feed",
+    }
+    for n, (tools, words) in enumerate(cases.items()):
+        text = RUN.read_text().replace("    feed_rate: 1000\n", f"    tools: {tools}\n" if tools else "")
+        run = tmp_path / f"run{n}.yaml"
+        run.write_text(text)
+        out = tmp_path / f"ev{n}"
+        tool = ["--set", "tool=7"] if n == 2 else []
+        assert main(["evaluate", str(run), *SETS[2:], *tool, "--out", str(out), "--post", "fanuc"]) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and f"{run}: {words}" in err[0] and "--post" in err[0] and not out.exists(), err
+    # a geometry-only entry is fine where no NC program is written
+    assert main(["evaluate", str(tmp_path / "run1.yaml"), *SETS[2:]]) == 0
+    assert "objective" in json.loads(capsys.readouterr().out)
