@@ -99,7 +99,7 @@ def main(args: argparse.Namespace) -> int:
     values = parse_assignments(args.values)
     config = load_config(args.config)
     if args.post:
-        _check_post(args.config, config, values)
+        _check_post(args.config, config, args.post, values)
     prepared = prepare(config, str(args.config))
     space = prepared.space
     X = phenotype(space, values)
@@ -128,12 +128,21 @@ def main(args: argparse.Namespace) -> int:
     return 0
 
 
-def _check_post(path: str, config, values: dict) -> None:
-    """What ``--post`` needs of the run file, refused before any planning: the feed of the
-    plan's tool (its ``feed``, else ``feed_rate``; a tools entry may leave it out for
-    optimization runs, not for an NC program)."""
+def _check_post(path: str, config, post_name: str, values: dict) -> None:
+    """What ``--post`` needs of the run file, refused before any planning: a 5-axis post for a
+    5-axis plan (``machine``, default 5axis), and the feed of the plan's tool (its ``feed``,
+    else ``feed_rate``; a tools entry may leave it out for optimization runs, not for an NC
+    program)."""
+    from ..problems.toolpath.export.posts import POSTS
+
     params = config.problem.params
-    if config.problem.name != "toolpath" or "feed_rate" in params:
+    if config.problem.name != "toolpath":
+        return
+    if not POSTS[post_name].five_axis and params.get("machine", "5axis") == "5axis":
+        others = ", ".join(sorted(name for name, c in POSTS.items() if c.five_axis))
+        raise ConfigError(f"{path}: problem.params.machine: --post {post_name} is a 3-axis post and the plan is "
+                          f"5-axis (machine: 5axis): use a 5-axis post ({others}) or machine: 3axis")
+    if "feed_rate" in params:
         return
     tools = params.get("tools")
     if not isinstance(tools, list):

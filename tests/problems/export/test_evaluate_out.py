@@ -39,7 +39,13 @@ def test_a_three_axis_post_for_a_five_axis_plan_writes_nothing(tmp_path, capsys)
     out = tmp_path / "ev"
     assert main(["evaluate", str(RUN), *SETS, "--out", str(out), "--post", "iso"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 1 and "3-axis post" in err[0] and not out.exists()
+    assert len(err) == 1 and "3-axis post" in err[0] and "problem.params.machine" in err[0] and not out.exists()
+    # decided from the run file: a 3-axis plan passes it (and is refused next, for its missing feed)
+    run = tmp_path / "three.yaml"
+    run.write_text(RUN.read_text().replace("    feed_rate: 1000\n", "    machine: 3axis\n"))
+    assert main(["evaluate", str(run), "--set", "tool=8", "--out", str(out), "--post", "iso"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "feed_rate: missing" in err[0] and not out.exists(), err
     assert main(["evaluate", str(RUN), *SETS, "--out", str(out), "--post", "okuma"]) == 2
     assert "unknown post" in capsys.readouterr().err and not out.exists()
 
