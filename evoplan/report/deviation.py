@@ -78,10 +78,10 @@ def deviation_figures(d: dict):
         f3.add_trace(go.Surface(x=xs, y=ys, z=np.where(np.isfinite(un), z, np.nan), showscale=False,
                                 colorscale=[[0, "#9e9e9e"], [1, "#9e9e9e"]], name="uncut", hoverinfo="skip",
                                 showlegend=True))
-    from .paths import scene
+    from .paths import LEGEND_BELOW, scene
 
     f3.update_layout(scene=scene(), height=640, meta="deviation3d", margin=dict(l=0, r=0, t=40, b=0),
-                     title="deviation on the part (3D)")
+                     title="deviation on the part (3D)", legend=LEGEND_BELOW)
     f2 = go.Figure([go.Heatmap(x=xs, y=ys, z=s, zmin=-vmax, zmax=vmax, colorscale=cs, colorbar=bar,
                                name="deviation", hovertemplate="x %{x:.2f} mm<br>y %{y:.2f} mm<br>"
                                                                "%{z:.4f} mm<extra></extra>")])

@@ -187,6 +187,12 @@ def add_moves(fig, mv: Moves, *, prefix: str = "", cc: np.ndarray | None = None,
             "drawn": int(keep.sum()), "tolerance": tol}
 
 
+#: the 3D figures' legend: one row (wrapping) under the scene, outside it, so it covers no axis
+#: (inside the scene's top left it lay over the Z axis, which this camera puts on the left)
+LEGEND_BELOW = dict(orientation="h", x=0.0, xanchor="left", y=0.0, yanchor="top",
+                    bgcolor="rgba(255,255,255,0.8)", font=dict(size=11))
+
+
 def scene(title: str = "") -> dict:
     """A 3D scene with equal scales on X, Y and Z (mm)."""
     ax = dict(showbackground=True, backgroundcolor="#f5f5f5", gridcolor="#cfd8dc")
@@ -232,7 +238,7 @@ def toolpath_figure(moves: list[Moves], part=None, cc: np.ndarray | None = None,
         stats.append((mv.name, add_moves(fig, mv, prefix=prefix, cc=cc if k == len(moves) - 1 else None,
                                          colour=colour)))
     fig.update_layout(scene=scene(), height=720, margin=dict(l=0, r=0, t=40, b=0), title=title, meta=name,
-                      legend=dict(x=0.0, y=1.0, bgcolor="rgba(255,255,255,0.8)", font=dict(size=11)))
+                      legend=LEGEND_BELOW)
     caption = "; ".join(f"{n}: {s['cut_points']:,} cut points drawn as {s['drawn']:,} "
                         f"(decimated within {s['tolerance']:g} mm of the programmed path)" for n, s in stats)
     caption += (". Cuts coloured by zone (hue) and pass (shade) or by layer; links and rapids dashed "

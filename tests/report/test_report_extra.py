@@ -75,3 +75,29 @@ def test_help_names_every_folder_kind(capsys):
     text = " ".join(capsys.readouterr().out.split())
     assert "DIR a run, study, simulate or machine results folder" in text
     assert "machine folder (summary.json)" in text
+
+
+def layouts(html: str) -> dict:
+    """Each plotly figure's layout embedded in the page, by its ``meta`` name."""
+    import json
+
+    out, decoder = {}, json.JSONDecoder()
+    for m in re.finditer(r'Plotly\.newPlot\(\s*"[^"]+",\s*', html):
+        _, end = decoder.raw_decode(html, m.end())                      # the data array
+        layout, _ = decoder.raw_decode(html, html.index("{", end))
+        out[layout.get("meta", "")] = layout
+    return out
+
+
+@pytest.mark.parametrize("kind, names", [("machine", ["operations3d"]), ("toolpath_run", ["toolpath3d"]),
+                                         ("simulation", ["deviation3d"])])
+def test_3d_legends_sit_under_the_scene_not_over_an_axis(synth, kind, names):
+    assert main(["report", str(synth[kind])]) == 0
+    found = layouts((synth[kind] / "report.html").read_text())
+    for name in names:
+        legend = found[name]["legend"]
+        # one row under the plot area (y = 0 is its bottom edge, the legend hangs from it):
+        # outside the scene, whose Z axis this camera draws on the left
+        assert legend["orientation"] == "h" and legend["yanchor"] == "top" and legend["y"] <= 0
+        assert legend["x"] == 0 and legend["xanchor"] == "left"
+        assert "domain" not in found[name].get("scene", {})              # the scene keeps the whole area
