@@ -10,8 +10,9 @@ Three ways to name the toolpath, over the surface of a run file's toolpath probl
                                                   # an outside ISO/Fanuc program, with its cutter
 
 Writes ``simulation.json`` (scallop max / mean / p50 / p90 / p99, gouge max and area, uncut
-fraction, grid, CL points, seconds, per-zone figures), ``deviation_map.png`` and
-``deviation_hist.png`` into the folder, all or nothing, and prints the JSON.
+fraction, grid, CL points, seconds, per-zone figures), ``deviation_map.png``,
+``deviation_hist.png``, ``deviation.npz`` and, for a plan (``--set`` or ``--run``), its
+``toolpath.apt`` into the folder, all or nothing, and prints the JSON.
 """
 
 from __future__ import annotations
@@ -45,7 +46,8 @@ def add_parser(sub) -> argparse.ArgumentParser:
                         "tapered_ball...; without one, r says: 0 flat, D/2 ball, else toroidal), "
                         "its diameter D and corner radius r (mm), then its own parameters by "
                         "name: 12,6 | 12 | toroidal:16,3 | tapered_ball:8,1,taper_angle=10")
-    p.add_argument("--out", help="folder for simulation.json and the figures (default: results/simulate-<time>)")
+    p.add_argument("--out", help="folder for simulation.json, the figures and, for a plan, its toolpath.apt "
+                                 "(default: results/simulate-<time>)")
     p.add_argument("--grid", type=float, default=0.1, metavar="MM", help="cell size (default 0.1 mm)")
     p.add_argument("--rays", choices=["normal", "vertical"], default="normal",
                    help="measure along the design-surface normal (default) or vertically")
@@ -99,7 +101,7 @@ def _problem_and_plan(args):
             raise ConfigError(f"{args.apt}: {e}") from None
         except (OSError, ValueError) as e:
             raise ConfigError(f"{args.apt}: {e}") from None
-        return config, problem, path, None, f"APT file {Path(args.apt).name}", _read_facts(apt)
+        return config, problem, path, None, f"APT file {Path(args.apt).name}", _read_facts(apt), {}
     if getattr(args, "nc", None):
         return (config, problem, *_nc_path(args))
     if params is None:
@@ -112,7 +114,21 @@ def _problem_and_plan(args):
     except ValueError as e:
         raise ConfigError(f"{config}: {e}") from None
     label = ", ".join(f"{k} {v:g}" if isinstance(v, float) else f"{k} {v}" for k, v in params.items())
-    return config, problem, path, labels, label, {}
+    return config, problem, path, labels, label, {}, _plan_apt(problem, params, path, label)
+
+
+def _plan_apt(problem, params: dict, path, label: str) -> dict[str, bytes]:
+    """``toolpath.apt``: the plan simulated as a CL file (its tool from the problem's tools)."""
+    import textwrap
+
+    from ..problems.toolpath.export.apt_write import apt_plan
+
+    tool_db, genes = getattr(problem, "tool_db", None), getattr(problem, "genes", None)
+    if tool_db is None or genes is None:  # a problem of user code without a tool database
+        return {}
+    tool = tool_db.tools[int(genes.decode(problem.row(params))["tool"][0])]
+    text = apt_plan(path, tool, comments=textwrap.wrap(f"evoplan simulate: {label}", 66))
+    return {"toolpath.apt": text.encode()}
 
 
 def _read_facts(tp) -> dict:
@@ -122,7 +138,7 @@ def _read_facts(tp) -> dict:
 
 
 def _nc_path(args):
-    """(CLPath, None, label, facts) of ``--nc FILE --tool [TYPE:]D[,r][,NAME=VALUE...]``."""
+    """(CLPath, None, label, facts, no files) of ``--nc FILE --tool [TYPE:]D[,r][,NAME=VALUE...]``."""
     from ..problems.toolpath.clpath import CLPath
     from ..problems.toolpath.export.gcode_read import GcodeError, read_gcode
     from ..problems.toolpath.export.kinematics import Kinematics, Rotary
@@ -136,7 +152,7 @@ def _nc_path(args):
     try:
         # arcs as chords of 1 um: the cut is the arc, not a polygon 10 um inside it
         tp = read_gcode(args.nc, cutter, kin, chord_tol=1e-3)
-        return CLPath.from_apt(tp), None, f"NC file {Path(args.nc).name}", _read_facts(tp)
+        return CLPath.from_apt(tp), None, f"NC file {Path(args.nc).name}", _read_facts(tp), {}
     except (GcodeError, OSError, ValueError) as e:
         raise ConfigError(f"{args.nc}: {e}") from None
 
@@ -172,7 +188,7 @@ def _measure(args: argparse.Namespace, stages) -> tuple[dict, dict[str, bytes]]:
     from ..problems.toolpath.simulation.figures import deviation_hist_png, deviation_map_png
 
     stages.set_postfix_str("plan")
-    config, problem, path, labels, label, read_facts = _problem_and_plan(args)
+    config, problem, path, labels, label, read_facts, plan_files = _problem_and_plan(args)
     tolerance = args.tolerance or float(getattr(problem, "simulation_tolerance", 0.01))
     t0 = time.perf_counter()
     try:
@@ -203,6 +219,7 @@ def _measure(args: argparse.Namespace, stages) -> tuple[dict, dict[str, bytes]]:
         "deviation_hist.png": deviation_hist_png(grid, sim.residual.values, tolerance=tolerance,
                                                  allowance=args.allowance),
         "deviation.npz": _deviation_npz(grid, sim, path, tolerance, args.allowance),
+        **plan_files,
     }
     return record, files
 

@@ -102,6 +102,17 @@ def apt_toolpath(tp: Toolpath, *, part: str = "EVOPLAN", coolant: str = "ON", ti
     return "\n".join(lines + footer()) + "\n"
 
 
+def apt_plan(path, tool: Tool, *, part: str = "EVOPLAN TOOLPATH", comments: list[str] | None = None) -> str:
+    """The CL file of a plan's CL path (``clpath.CLPath``, as the machine runs it) cut by
+    ``tool``: each section entered and left as ``Toolpath.from_sections`` does, at the path's
+    ``feed_rate``, opened by ``$$ ZONE z PASS k``."""
+    starts = np.flatnonzero(np.r_[True, np.diff(path.section) != 0])
+    names = {int(path.section[i]): f"ZONE {path.zone[i]} PASS {path.pass_index[i]}" for i in starts}
+    tp = Toolpath.from_sections("finish", tool, path.tip, path.axis, path.section, feed=path.feed_rate,
+                                comments=comments, section_names=names)
+    return apt_toolpath(tp, part=part)
+
+
 def apt_program(
     tip: np.ndarray, axis: np.ndarray, pass_index: np.ndarray, *, cutter: Cutter,
     feed_rate: float, part: str = "EVOPLAN", comments: list[str] | None = None, clearance: float = 10.0,

@@ -1,4 +1,5 @@
-"""``evoplan evaluate ... --out DIR [--post NAME]``: the plan's criteria, APT, zone map and NC program."""
+"""``evoplan evaluate ... --out DIR [--post NAME]``: the plan's criteria, APT, zone map and NC program;
+``evoplan simulate ... --out DIR``: the plan's APT beside the measures."""
 
 import json
 from pathlib import Path
@@ -84,3 +85,22 @@ def test_an_nc_program_needs_the_feed_of_its_tool_from_the_run_file(tmp_path, ca
     # a geometry-only entry is fine where no NC program is written
     assert main(["evaluate", str(tmp_path / "run1.yaml"), *SETS[2:]]) == 0
     assert "objective" in json.loads(capsys.readouterr().out)
+
+
+def test_simulate_writes_the_plan_it_cut_as_toolpath_apt(tmp_path, capsys):
+    from evoplan.problems.toolpath.problem import ToolpathProblem
+
+    out = tmp_path / "sim"
+    assert main(["simulate", str(RUN), *SETS, "--grid", "0.5", "--quiet", "--out", str(out)]) == 0
+    rec = json.loads((out / "simulation.json").read_text())
+    text = (out / "toolpath.apt").read_text()
+    # the moves of evaluate --out's toolpath.apt (the comments name the command)
+    pr = ToolpathProblem()
+    params = dict(tool=8, stepover=30, lead=1, tilt=0.5, step=8)
+    ref = pr.artifacts(pr.row(params)[0])["toolpath.apt"].decode()
+    moves = [ln for ln in text.splitlines() if not ln.startswith(("$$", "PARTNO"))]
+    assert moves == [ln for ln in ref.splitlines() if not ln.startswith(("$$", "PARTNO"))]
+    apt = read_apt(out / "toolpath.apt")
+    path, _ = pr.cl_path(params)
+    assert rec["cl_points"] == len(path) and apt.cutter.diameter == 12 and apt.cutter.corner_radius == 6
+    np.testing.assert_allclose(apt.tip[~apt.rapid], path.tip, atol=5e-5)  # every CL point cut, in order
