@@ -72,8 +72,57 @@ def friedman(runs: pd.DataFrame, reference: str, reference_levels: dict[str, str
     return (pd.DataFrame(rows, columns=FRIEDMAN_COLUMNS), pd.DataFrame(pairs), diagrams)
 
 
+#: a CD diagram's label font (pt), and the least distance between two label rows, in label
+#: font sizes (centre to centre: a row of 9 pt text is about 1.2 font sizes tall)
+CD_FONT = 9
+CD_ROW = 1.7
+#: inches of a CD panel outside its label rows: the title, the rank axis and its tick labels
+CD_FRAME = 0.95
+
+
+def cd_figure(diagrams, alpha: float = 0.05, colors: dict[str, str] | None = None, left_out: str = ""):
+    """The critical-difference diagrams of :func:`friedman`, one panel each (see :func:`cd_diagram`).
+
+    scikit-posthocs puts each label on a row of its own, one data unit apart, under the
+    crossbars; each panel is made tall enough that its rows stay :data:`CD_ROW` font sizes
+    apart whatever the number of variants, ties and crossbars, so no two labels overlap (ties
+    used to crowd a fixed 2.5 in panel). The rank axis spans 1 to the number of variants."""
+    import scikit_posthocs as sp
+
+    from ..figure_style import PALETTE, figure
+
+    colors = dict(colors or {})
+    fig, axes = figure(len(diagrams), width=8, height=2.5, cols=1)
+    heights = []
+    for ax, (title, ranks, p_matrix) in zip(axes, diagrams):
+        for name in ranks.index:
+            colors.setdefault(name, PALETTE[len(colors) % len(PALETTE)])
+        ax.grid(False)
+        lo = min(1.0, float(ranks.min()))
+        hi = max(float(len(ranks)), float(ranks.max()))
+        # labels a gap off their end of the ranks (all tied: the two sides' labels stay apart), the
+        # rank to 3 digits (2 wrote 10.5 as 10)
+        sp.critical_difference_diagram(ranks, p_matrix, alpha=alpha, ax=ax, label_props={"fontsize": CD_FONT},
+                                       color_palette={n: colors[n] for n in ranks.index},
+                                       text_h_margin=0.015 * (hi - lo), label_fmt_left="{label} ({rank:.3g})",
+                                       label_fmt_right="({rank:.3g}) {label}")
+        ax.set_xlim(lo - 0.02 * (hi - lo), hi + 0.02 * (hi - lo))
+        bottom = min(y for line in ax.get_lines() for y in line.get_ydata())  # the lowest label row
+        ax.set_ylim(bottom - 0.7, 0.6)
+        ax.set_title(f"{title}: mean rank (1 = best); a bar joins variants not separated at alpha = {alpha}",
+                     fontsize=9)
+        heights.append(CD_FRAME + (0.6 - bottom + 0.7) * CD_ROW * CD_FONT / 72)
+    if len(axes) > 1:
+        axes[0].get_subplotspec().get_gridspec().set_height_ratios(heights)
+    fig.set_figheight(sum(heights))
+    if left_out:
+        fig.text(0.01, -0.02, f"left out (failed runs): {left_out}", ha="left", va="top", fontsize=8, wrap=True)
+    return fig
+
+
 def cd_diagram(diagrams, alpha: float = 0.05, colors: dict[str, str] | None = None, left_out: str = "") -> bytes:
-    """The critical-difference diagrams of :func:`friedman`, one panel each, as PNG bytes.
+    """The critical-difference diagrams of :func:`friedman`, one panel each, as PNG bytes
+    (:func:`cd_figure`).
 
     ``left_out`` names the variants with failed runs that the ranks leave out (a caption under
     the panels, so the figure does not read as if they had never been run).
@@ -81,23 +130,9 @@ def cd_diagram(diagrams, alpha: float = 0.05, colors: dict[str, str] | None = No
     ``colors`` maps a variant's label to its colour in the study's other figures
     (:func:`evoplan.study.figures.variant_styles`), so a variant keeps its colour here too,
     whatever its rank; a label it lacks takes the palette's next colour."""
-    import scikit_posthocs as sp
+    from ..figure_style import png
 
-    from ..figure_style import PALETTE, figure, png
-
-    colors = dict(colors or {})
-    fig, axes = figure(len(diagrams), width=8, height=1.2 + 1.3 * len(diagrams) / max(len(diagrams), 1), cols=1)
-    for ax, (title, ranks, p_matrix) in zip(axes, diagrams):
-        for name in ranks.index:
-            colors.setdefault(name, PALETTE[len(colors) % len(PALETTE)])
-        ax.grid(False)
-        sp.critical_difference_diagram(ranks, p_matrix, alpha=alpha, ax=ax,
-                                       color_palette={n: colors[n] for n in ranks.index})
-        ax.set_title(f"{title}: mean rank (1 = best); a bar joins variants not separated at alpha = {alpha}",
-                     fontsize=9)
-    if left_out:
-        fig.text(0.01, -0.02, f"left out (failed runs): {left_out}", ha="left", va="top", fontsize=8, wrap=True)
-    return png(fig)
+    return png(cd_figure(diagrams, alpha, colors, left_out))
 
 
 def bayesian(runs: pd.DataFrame, reference: str, reference_levels: dict[str, str] | None = None,

@@ -4,9 +4,12 @@ plotted in its own values (not as a precision against the best run, which spans 
 
 from __future__ import annotations
 
+import re
+
 import matplotlib.colors as mcolors
 import numpy as np
 import pandas as pd
+import pytest
 
 import evoplan.figure_style as style
 from evoplan.study import figures
@@ -68,3 +71,59 @@ def test_convergence_with_a_known_optimum_shows_precisions_floored(monkeypatch):
     ax = seen["fig"].axes[0]
     assert ax.get_ylabel() == "f - f_opt (best so far)"
     assert [ln for ln in ax.get_lines() if ln.get_label().startswith("floor 1e-16: ")]  # run 0 hits f_opt
+
+
+def tied_diagrams(n: int, panels: int = 2):
+    """``panels`` families of ``n`` variants whose mean ranks tie in pairs and threes, with
+    overlapping groups that Nemenyi does not separate (many crossbars)."""
+    names = [f"variant {i:02d}" for i in range(n)]
+    out = []
+    for k in range(panels):
+        ranks = pd.Series(1 + np.floor(np.arange(n) / (2 + k)) * (2 + k), index=names, dtype=float)
+        ranks = ranks * (n + 1) / 2 / ranks.mean()                      # mean ranks average (n + 1) / 2
+        if k == 3:
+            ranks[:] = (n + 1) / 2                                       # all tied
+        near = np.abs(ranks.to_numpy()[:, None] - ranks.to_numpy()[None, :]) <= n / 4
+        out.append((f"problem {k}, 3-D", ranks, pd.DataFrame(np.where(near, 0.5, 0.001), index=names, columns=names)))
+    return out
+
+
+def saved_cd_figure(monkeypatch, diagrams):
+    """The CD diagram's figure as saved (laid out by figure_style.png), and its renderer."""
+    real, seen = style.png, {}
+
+    def keep(fig):
+        seen["fig"] = fig
+        return real(fig)
+
+    monkeypatch.setattr(style, "png", keep)
+    data = cd_diagram(diagrams, 0.05)
+    assert data[:4] == b"\x89PNG"
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    return seen["fig"], FigureCanvasAgg(seen["fig"]).get_renderer()     # png() closed its canvas
+
+
+def test_cd_labels_of_tied_variants_never_overlap(monkeypatch):
+    for n, panels in ((6, 1), (12, 2), (24, 3), (5, 4)):
+        diagrams = tied_diagrams(n, panels)
+        fig, renderer = saved_cd_figure(monkeypatch, diagrams)
+        texts = [t for ax in fig.axes for t in [*ax.texts, ax.title] if t.get_text()]
+        assert len(texts) == panels * (n + 1)                            # every label, every title
+        for ax, (_, ranks, _) in zip(fig.axes, diagrams):               # each label's rank, to 3 digits
+            for t in ax.texts:
+                name = re.sub(r"\s*\([^)]*\)\s*", "", t.get_text())
+                shown = float(re.search(r"\(([^)]*)\)", t.get_text()).group(1))
+                assert shown == pytest.approx(ranks[name], rel=5e-3), t.get_text()
+        boxes = [t.get_window_extent(renderer) for t in texts]
+        for i, a in enumerate(boxes):
+            for j in range(i + 1, len(boxes)):
+                b = boxes[j]
+                overlap_x = min(a.x1, b.x1) - max(a.x0, b.x0)
+                overlap_y = min(a.y1, b.y1) - max(a.y0, b.y0)
+                assert overlap_x <= 0 or overlap_y <= 0, (n, texts[i].get_text(), texts[j].get_text())
+        for ax in fig.axes:                                              # the rows of one side: spaced
+            for side in ("left", "right"):
+                ys = sorted(t.get_window_extent(renderer).y0 for t in ax.texts if t.get_ha() == side)
+                height = max(t.get_window_extent(renderer).height for t in ax.texts)
+                assert np.diff(ys).min() >= 1.3 * height, (n, side)
