@@ -98,39 +98,74 @@ def boxes_figure(runs: pd.DataFrame, colours: dict):
     return fig
 
 
+#: the CD diagrams' vertical layout, in pixels (the y axis counts pixels from the top)
+CD_LINE = 16     # one label line: tied labels stack this far apart
+CD_BAR = 7       # one crossbar under the next
+CD_TITLE = 30    # a row's title above its labels
+
+
+def label_levels(ranks: list[float], span: float, gap: float = 0.08) -> list[tuple[int, int]]:
+    """``(side, level)`` of each label, ``ranks`` ascending: side +1 above the marker, -1 below,
+    level the line on that side (0 nearest). A variant within ``gap`` of the rank axis' ``span``
+    of the previous one joins its cluster (ties, or near enough for their labels to collide);
+    a cluster's labels alternate above and below and stack one line further out each pair, so
+    no two share a place; successive clusters start on alternate sides."""
+    out, start, cluster = [], 0, 0
+    for k, rank in enumerate(ranks):
+        if k and rank - ranks[k - 1] > gap * span:
+            start, cluster = k, cluster + 1
+        m = k - start
+        out.append((1 if (m + cluster) % 2 == 0 else -1, m // 2))
+    return out
+
+
 def cd_figure(nemenyi: pd.DataFrame, colours: dict, alpha: float = 0.05):
     """Critical-difference diagrams: each variant at its mean rank (1 = best, left), joined by a
-    bar to the variants Nemenyi's test does not tell apart (p > alpha); one row per problem."""
+    bar to the variants Nemenyi's test does not tell apart (p > alpha); one row per problem.
+
+    Labels are annotations placed in pixels (:func:`label_levels`): tied variants' labels
+    stack above and below their common marker instead of lying on one another."""
     import plotly.graph_objects as go
 
     fig = go.Figure()
     groups = list(nemenyi.groupby(["problem", "dimension", "factor"], sort=False, dropna=False))
-    shown = set()
-    for row, ((p, d, f), g) in enumerate(groups):
-        y0 = -3.0 * row
+    n_max = max((len(set(g["a"]) | set(g["b"])) for _, g in groups), default=2)
+    span = max(n_max - 1, 1)
+    y = 0.0
+    for (p, d, f), g in groups:
         ranks = {}
         for r in g.itertuples(index=False):
             ranks[r.a], ranks[r.b] = r.mean_rank_a, r.mean_rank_b
-        for k, (v, rank) in enumerate(sorted(ranks.items(), key=lambda t: t[1])):
-            fig.add_trace(go.Scatter(x=[rank], y=[y0], mode="markers+text", text=[v],
-                                     textposition="top center" if k % 2 == 0 else "bottom center",
-                                     marker=dict(size=13, color=colours.get(v, "#333")), name=v, legendgroup=v,
-                                     showlegend=v not in shown,
+        order = sorted(ranks.items(), key=lambda t: t[1])
+        levels = label_levels([rank for _, rank in order], span)
+        up = 1 + max((lv for side, lv in levels if side > 0), default=-1)
+        down = 1 + max((lv for side, lv in levels if side < 0), default=-1)
+        fig.add_annotation(x=0.5, y=y + 4, xref="paper", yref="y", yanchor="top", showarrow=False,
+                           text=f"<b>{p} ({d}-D){' ' + f if f else ''}</b>")
+        y0 = y + CD_TITLE + up * CD_LINE + 6                              # the row's markers
+        for (v, rank), (side, level) in zip(order, levels):
+            fig.add_trace(go.Scatter(x=[rank], y=[y0], mode="markers",
+                                     marker=dict(size=13, color=colours.get(v, "#333")), name=v,
+                                     showlegend=False,
                                      hovertemplate=f"{v}: mean rank %{{x:.2f}}<extra>{p} {d}-D</extra>"))
-            shown.add(v)
+            fig.add_annotation(x=rank, y=y0 - side * (9 + CD_LINE * level), yref="y", showarrow=False,
+                               yanchor="bottom" if side > 0 else "top", text=v, name=f"cd label {p} {d} {f}",
+                               font=dict(size=12, color=colours.get(v, "#333")))
         same = g[g["p_nemenyi"] > alpha]
+        bar_y = y0 + 9 + down * CD_LINE + 6
         for j, r in enumerate(same.itertuples(index=False)):
             lo, hi = sorted((r.mean_rank_a, r.mean_rank_b))
-            fig.add_trace(go.Scatter(x=[lo, hi], y=[y0 - 0.9 - 0.25 * j] * 2, mode="lines", showlegend=False,
+            fig.add_trace(go.Scatter(x=[lo, hi], y=[bar_y + CD_BAR * j] * 2, mode="lines", showlegend=False,
                                      line=dict(color="#424242", width=3), hoverinfo="text",
                                      text=f"{r.a} ~ {r.b}: Nemenyi p = {r.p_nemenyi:.3g}"))
-        fig.add_annotation(x=0.5, y=y0, xref="paper", yref="y", text=f"<b>{p} ({d}-D){' ' + f if f else ''}</b>",
-                           showarrow=False, yshift=28)
-    fig.update_layout(height=180 + 150 * len(groups), meta="cd", title=f"critical-difference diagrams "
+        y = bar_y + CD_BAR * len(same) + 16
+    # the plot area is y pixels tall (height less the margins), so the y axis counts pixels;
+    # no legend (it would widen the bottom margin): each marker's label names its variant
+    fig.update_layout(height=int(np.ceil(y)) + 140, meta="cd", showlegend=False, title=f"critical-difference diagrams "
                       f"(bars: not significantly different, Nemenyi, alpha = {alpha:g})",
-                      xaxis=dict(title="mean rank (1 = best)", zeroline=False),
-                      yaxis=dict(visible=False), legend=dict(orientation="h", x=0, y=-0.2),
-                      margin=dict(l=40, r=20, t=60, b=80))
+                      xaxis=dict(title="mean rank (1 = best)", zeroline=False, range=[0.7, n_max + 0.3]),
+                      yaxis=dict(visible=False, range=[int(np.ceil(y)), 0], fixedrange=True),
+                      margin=dict(l=40, r=20, t=60, b=80, autoexpand=False))
     return fig
 
 

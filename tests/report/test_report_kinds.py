@@ -81,3 +81,37 @@ def test_a_decision_named_by_text_has_no_unit(tmp_path):
     html = best_table(tmp_path / "best.json")
     assert '<tr><td>step</td><td class="num">0.5</td><td>mm</td>' in html
     assert "<tr><td>lead</td><td>auto</td><td></td>" in html
+
+
+def test_cd_labels_of_tied_variants_stack_apart():
+    import itertools
+
+    import pandas as pd
+
+    from evoplan.report.studyfigs import CD_LINE, cd_figure, label_levels
+
+    rows = []
+    families = {"kubota": {"ga": 2.0, "vega": 2.0, "de": 2.0},                           # all tied
+                "rastrigin": {"ga": 1.5, "vega": 1.5, "de": 3.5, "cmaes": 3.5, "pso": 3.5, "nsga": 3.52, "x": 6.0}}
+    for problem, ranks in families.items():
+        for a, b in itertools.combinations(ranks, 2):
+            rows.append(dict(problem=problem, dimension=2, factor="", a=a, b=b, mean_rank_a=ranks[a],
+                             mean_rank_b=ranks[b], p_nemenyi=0.5 if abs(ranks[a] - ranks[b]) < 2.5 else 0.01))
+    fig = cd_figure(pd.DataFrame(rows), {})
+    bars = [t for t in fig.data if t.mode == "lines"]
+    top = min(t.y[0] for t in bars)
+    labels = [a for a in fig.layout.annotations if (a.name or "").startswith("cd label")]
+    assert len(labels) == 10
+    span = 7 - 1
+    for a, b in itertools.combinations(labels, 2):
+        if a.name == b.name and abs(a.x - b.x) <= 0.08 * span:              # one row, labels that could touch
+            # each label's line: [y - CD_LINE, y] above the marker, [y, y + CD_LINE] below
+            ya = (a.y - CD_LINE, a.y) if a.yanchor == "bottom" else (a.y, a.y + CD_LINE)
+            yb = (b.y - CD_LINE, b.y) if b.yanchor == "bottom" else (b.y, b.y + CD_LINE)
+            assert min(ya[1], yb[1]) - max(ya[0], yb[0]) <= 0, (a.text, b.text)
+    kubota = [a for a in labels if "kubota" in a.name]
+    assert max(a.y for a in kubota) + CD_LINE <= top                         # above the first row's bars
+    # the y axis counts pixels: the plot area (height less the margins) spans the range exactly
+    lo, hi = sorted(fig.layout.yaxis.range)
+    assert fig.layout.height - fig.layout.margin.t - fig.layout.margin.b == hi - lo and lo == 0
+    assert label_levels([2.0, 2.0, 2.0, 2.0, 5.0], 4) == [(1, 0), (-1, 0), (1, 1), (-1, 1), (-1, 0)]
