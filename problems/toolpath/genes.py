@@ -261,8 +261,11 @@ class GeneSpace:
             return np.zeros((1, 0))
         t = free.index("tool") if "tool" in free else None
         cont = [j for j in range(len(free)) if j != t]
-        corners = np.array(list(itertools.product(*[(lo[j], hi[j]) for j in cont])))
-        corners = np.vstack([corners.reshape(-1, len(cont)), (lo[cont] + hi[cont]) / 2])
+        if cont:
+            corners = np.array(list(itertools.product(*[(lo[j], hi[j]) for j in cont])))
+            corners = np.vstack([corners, (lo[cont] + hi[cont]) / 2])
+        else:  # the tool is the only free gene: one row per tool
+            corners = np.zeros((1, 0))
         tools = range(len(self.tools)) if t is not None else [None]
         grid = []
         for k in tools:

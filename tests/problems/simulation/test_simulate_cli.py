@@ -38,7 +38,7 @@ def test_a_parameter_set_writes_the_record_and_figures(by_set):
     for key in KEYS:
         assert key in rec
     assert sorted(p.name for p in out.iterdir()) == ["deviation.npz", "deviation_hist.png", "deviation_map.png",
-                                                     "simulation.json"]
+                                                     "simulation.json", "toolpath.apt"]
     with np.load(out / "deviation.npz", allow_pickle=False) as d:   # the report's data: the map itself
         assert d["residual"].shape == d["z"].shape == d["inside"].shape and float(d["h"]) == 0.5
     assert rec["grid_mm"] == 0.5 and rec["cl_points"] > 100

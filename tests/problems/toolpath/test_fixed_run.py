@@ -84,3 +84,16 @@ def test_a_one_point_range_fixes_its_gene():
     assert one.fixed == {"stepover": 30.0} and "stepover" not in one.genes.free
     with pytest.raises(ValueError, match=r"^ranges.stepover: expected finite lo < hi"):
         ToolpathProblem(ranges={"stepover": [31, 30]})
+
+
+def test_the_tool_alone_free_is_normalized_over_every_tool():
+    # every continuous gene fixed, the tool free: the design is one row per tool and the
+    # random rows (was: "cannot reshape array of size 0" when the problem was built)
+    fixed = {k: v for k, v in PLAN.items() if k != "tool"}
+    problem = ToolpathProblem(surface="fountas", tolerance=0.01, fixed=fixed)
+    assert tuple(problem.genes.free) == ("tool",)
+    design = problem.genes.design(4, 0)
+    assert design.shape == (len(problem.tool_db.tools) + 4, 1)
+    assert set(design[:len(problem.tool_db.tools), 0]) == set(range(len(problem.tool_db.tools)))
+    f = problem.evaluate(np.array([[0.0], [5.0]]))
+    assert f.shape == (2, 1) and np.isfinite(f).all() and f[0, 0] != f[1, 0]

@@ -385,9 +385,16 @@ def test_contour_corner_passes_bring_the_corners_of_nested_loops_under_h_c():
     # a corner pass runs from a loop's corner along the bisector: a square's, at 45 deg
     import shapely
     sq = shapely.box(0, 0, 4, 4)
-    seg = corner_segments([[sq.exterior], [sq.buffer(-1, join_style="mitre").exterior]],
+    seg = corner_segments([[(sq.exterior, True)], [(sq.buffer(-1, join_style="mitre").exterior, True)]],
                           [1.0])
     assert len(seg) == 4
     for _, xy in seg:
         d = xy[-1] - xy[0]
         assert np.isclose(np.linalg.norm(d), np.sqrt(2)) and np.isclose(abs(d[0]), abs(d[1]))
+    # within a region, a corner pass stops at its last point inside (a notch in the way)
+    notched = sq.difference(shapely.box(0.5, 0.5, 0.9, 0.9))
+    seg = corner_segments([[(sq.exterior, True)], [(sq.buffer(-1, join_style="mitre").exterior, True)]],
+                          [1.0], region=notched)
+    lower_left = [xy for _, xy in seg if np.allclose(xy[0], [0, 0])]
+    assert len(seg) == 4 and len(lower_left) == 1 and notched.covers(shapely.LineString(lower_left[0]))
+    assert len(lower_left[0]) == 2 and np.all(lower_left[0][:, 0] < 0.5)

@@ -98,6 +98,28 @@ def test_isoscallop_passes_are_cut_at_the_trimming_loops(top):
     assert cut.sum() > 0.95 * grid.inside.sum()
 
 
+def test_contour_loops_go_round_the_hole_and_stay_on_the_face(top):
+    """Contour offsets of a trimmed face are offsets of its footprint, hole included: every
+    CL point is finite (the square's image and the corner passes across the hole and the
+    notch made -inf drops before), no CC point is off the face, loops run round the hole
+    within one spacing of it, and the face is machined."""
+    planner = Planner(top, parse_tools(BALL), machine="3axis", spacing="scallop", h_c=0.254,
+                      feed_angle=0.0, strategy="contour")
+    genes = {"tool": np.array([0]), "step": np.array([3.0])}
+    batch = planner.plan(genes)
+    assert np.isfinite(batch.tip).all()
+    cc = batch.p[batch.on_part]
+    assert len(cc) > 500 and not off_face(cc[:, :2], 2 * DEFLECTION).any()
+    ring = np.hypot(cc[:, 0] - HX, cc[:, 1] - HY)
+    near = (ring > HR) & (ring < HR + 3.0)  # within a spacing of the hole's edge
+    angles = np.arctan2(cc[near, 1] - HY, cc[near, 0] - HX)
+    assert np.histogram(angles, bins=12, range=(-np.pi, np.pi))[0].min() > 0  # all the way round
+    grid = design_grid(top, 0.5)
+    res = sweep_path(planner.cl_path(genes), grid).values
+    cut = grid.inside & np.isfinite(res) & (res < 0.5)
+    assert cut.sum() > 0.95 * grid.inside.sum()
+
+
 def test_the_committed_part_is_what_its_script_makes(tmp_path):
     import importlib.util
 

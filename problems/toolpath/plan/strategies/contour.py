@@ -1,7 +1,8 @@
 """``contour``: concentric loops, inward offsets of the zone's boundary, cut outside in.
 
 The zone's footprint in XY (the whole part: the image of its boundary loops; a zone: the
-union of its mesh cells, mapped to XY) is offset inwards by shapely (GEOS buffers: exact in
+union of its mesh cells, mapped to XY; on a trimmed face either is cut to the face's
+footprint, its holes included) is offset inwards by shapely (GEOS buffers: exact in
 floating point, nested by construction, an offset that pinches splits into several loops
 and one that vanishes is empty; pyclipr would be faster but works on integer coordinates,
 and shapely is already the project's polygon library). The first loop is the boundary
@@ -9,7 +10,8 @@ itself; the next offset distance is as far from the current loop as its WORST po
 (the cross-feed width that leaves h_c, ``offsets.cross_width``, times the horizontal part
 of the inward cross-feed), until nothing is left. Each loop is one section, closed, its
 start moved to the point nearest the previous loop's end (short links). CC points lie on
-the surface above the loops (the XY offsets mapped back to (u, v)). ``link: spiral`` cuts
+the surface above the loops (the XY offsets mapped back to (u, v)). Around a hole the
+loops are the offsets of its boundary, outwards into the material. ``link: spiral`` cuts
 every run of offsets that stay one loop as one spiral (:func:`spiral`) instead of closed
 loops linked across. ``corners`` (default true): after the loops, a pass along the bisector
 of every convex corner from one loop to the next (:func:`corner_segments`: nested offsets
@@ -20,6 +22,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ...geometry.footprint import footprint_of
 from ..curves import Piece
 from .base import CurveStrategy
 from .offsets import cross_width, pass_frame
@@ -28,7 +31,8 @@ __all__ = ["Contour", "zone_polygon", "contour_loops", "spiral"]
 
 
 def zone_polygon(surface, labels, z, n_side: int = 256):
-    """The XY polygon of zone z (its mesh cells' union mapped to XY)."""
+    """The XY polygon of zone z (its mesh cells' union mapped to XY), within the surface's
+    trimmed footprint (holes included) where it has one."""
     import shapely
 
     n, m = labels.shape
@@ -46,7 +50,13 @@ def zone_polygon(surface, labels, z, n_side: int = 256):
         rings_uv = [np.asarray(ring.coords)[:-1]]
     xy = [surface.jet(r[:, 0], r[:, 1], order=0).p[:, :2] for r in rings_uv]
     poly = shapely.Polygon(xy[0])
-    return poly if poly.is_valid else shapely.make_valid(poly)
+    poly = poly if poly.is_valid else shapely.make_valid(poly)
+    fp = footprint_of(surface)
+    if not fp.whole:
+        loops = fp.xy_loops(surface)
+        part = shapely.Polygon(loops[0], holes=loops[1:])
+        poly = poly.intersection(part if part.is_valid else shapely.make_valid(part))
+    return poly
 
 
 def _to_uv(geom, xy):
@@ -79,10 +89,12 @@ def _corners(ring, min_turn_deg: float = CORNER_DEG) -> np.ndarray:
     return xy[turn > min_turn_deg]
 
 
-def corner_segments(rings, steps, ds: float = 0.5):
-    """Corner passes: XY polylines from every convex corner of each loop to the nearest
-    point of the next loop inwards, where that is farther than the loops' spacing (``rings``
-    per offset distance, ``steps`` the spacing to the next). An inward offset keeps a
+def corner_segments(rings, steps, ds: float = 0.5, region=None):
+    """Corner passes: XY polylines from every convex corner of each outer loop to the nearest
+    point of the next loops inwards, where that is farther than the loops' spacing (``rings``
+    per offset distance, (ring, outer) each; ``steps`` the spacing to the next). Within
+    ``region`` (the zone's polygon) a pass keeps its points up to the first one outside it
+    (across a hole or a notch the nearest loop point may lie beyond it). An inward offset keeps a
     polygon's convex corners sharp, so nested loops that are ``step`` apart along their
     edges are step / sin(theta / 2) apart at a corner of interior angle theta (step sqrt 2
     at a square's): halfway along the bisector the nearest loop is 0.586 step away on a
@@ -94,11 +106,11 @@ def corner_segments(rings, steps, ds: float = 0.5):
 
     out = []
     for k in range(len(rings) - 1):
-        nxt = shapely.MultiLineString([list(r.coords) for r in rings[k + 1]]) \
+        nxt = shapely.MultiLineString([list(r.coords) for r, _ in rings[k + 1]]) \
             if rings[k + 1] else None
         if nxt is None:
             continue
-        for ring in rings[k]:
+        for ring in (r for r, outer in rings[k] if outer):
             for c in _corners(ring):
                 pt = shapely.Point(c)
                 q = nxt.interpolate(nxt.project(pt))
@@ -107,7 +119,12 @@ def corner_segments(rings, steps, ds: float = 0.5):
                     continue  # the next loop is as close as along the edges: no corner left
                 n_pts = max(int(np.ceil(np.linalg.norm(end - c) / ds)), 1) + 1
                 f = np.linspace(0.0, 1.0, n_pts)[:, None]
-                out.append((k, (1 - f) * c + f * end))
+                xy = (1 - f) * c + f * end
+                if region is not None:
+                    inside = shapely.covers(region, shapely.points(xy))
+                    xy = xy[:len(xy) if inside.all() else int(np.argmin(inside))]
+                if len(xy) >= 2:
+                    out.append((k, xy))
     return out
 
 
@@ -137,13 +154,16 @@ def contour_loops(planner, layout, z, cutter, h_c, lead_tilt=None, ds=0.5, max_l
             region = poly.buffer(-dist)
         if region.is_empty:
             break
-        rings = [g.exterior for g in getattr(region, "geoms", [region]) if g.area > 1e-9]
+        polys = [g for g in getattr(region, "geoms", [region])
+                 if g.geom_type == "Polygon" and g.area > 1e-9]
+        # outer boundaries counter-clockwise, holes clockwise: the material on the left
+        rings = [(g.exterior, True) for g in polys] + [(h, False) for g in polys for h in g.interiors]
         pieces, steps = [], []
-        for ring in rings:
+        for ring, outer in rings:
             xy = np.asarray(shapely.segmentize(ring, ds).coords)[:-1]
             if len(xy) < 3:
                 continue
-            if shapely.LinearRing(xy).is_ccw is False:
+            if shapely.LinearRing(xy).is_ccw is not outer:
                 xy = xy[::-1]
             if end is not None:  # start where the previous loop ended
                 xy = np.roll(xy, -int(np.argmin(np.linalg.norm(xy - end, axis=1))), axis=0)
@@ -171,7 +191,7 @@ def contour_loops(planner, layout, z, cutter, h_c, lead_tilt=None, ds=0.5, max_l
             break
         prev, dist = dist, dist + step
     if corners is not None:
-        for k, xy in corner_segments(all_rings, all_steps, ds):
+        for k, xy in corner_segments(all_rings, all_steps, ds, region=poly):
             seg = np.diff(xy, axis=0)
             side = np.column_stack([-seg[:, 1], seg[:, 0]])
             side = np.vstack([side, side[-1:]])
