@@ -49,6 +49,7 @@ class Browser:
                                               suppress_origin=True)
         self.next_id = 0
         self.events: list[dict] = []
+        self.page = Path(self.profile) / "report.html"  # the one file show() opens
         for domain in ("Page", "Runtime", "Log", "Network"):
             self.call(f"{domain}.enable")
 
@@ -88,16 +89,48 @@ class Browser:
             raise RuntimeError(f"{expression[:60]}: {r['exceptionDetails']}")
         return r["result"].get("value")
 
-    def open(self, url: str, timeout: float = 30.0) -> float:
-        """Navigate and wait until the page says its figures are drawn; returns the seconds."""
+    #: a report page is ready when every plotly figure has been laid out and given its data
+    DRAWN = ("(()=>{const g=[...document.querySelectorAll('.js-plotly-plot')];"
+             "return g.length>0 && g.every(d=>d._fullLayout && d._fullData);})()")
+
+    def open(self, url: str, timeout: float = 30.0, ready: str = DRAWN) -> float:
+        """Navigate and wait until the new page is loaded and ``ready`` (a JS expression; by
+        default its figures are drawn); returns the seconds.
+
+        The page being left is marked first, so a document still showing while the next one
+        loads (the same URL, or a slow commit) is never taken for it."""
         t0 = time.monotonic()
+        self.js("window.__left = true")
         self.call("Page.navigate", url=url)
         while time.monotonic() - t0 < timeout:
-            if self.js("document.readyState === 'complete' && (()=>{const g=[...document.querySelectorAll("
-                       "'.js-plotly-plot')];return g.length>0 && g.every(d=>d._fullLayout && d._fullData);})()"):
+            if self.js(f"!window.__left && document.readyState === 'complete' && {ready}"):
                 return time.monotonic() - t0
             time.sleep(0.05)
-        raise TimeoutError(f"{url}: figures not drawn after {timeout:g} s")
+        raise TimeoutError(f"{url}: not ready after {timeout:g} s")
+
+    def viewport(self, width: int | None = None, height: int | None = None) -> None:
+        """Lay pages out in a ``width`` x ``height`` viewport (both None: the window's again)."""
+        if width is None:
+            self.call("Emulation.clearDeviceMetricsOverride")
+        else:
+            self.call("Emulation.setDeviceMetricsOverride", width=width, height=height, deviceScaleFactor=1,
+                      mobile=False)
+
+    def show(self, html: str, timeout: float = 60.0) -> float:
+        """Open the page ``html``, always from the same file: Chromium keeps a page's compiled
+        inline scripts by URL, so every report after the first one skips compiling plotly.js's
+        4.8 MB again (about 5 s a page on a shared 2-core host). Returns the seconds to draw."""
+        self.page.write_text(html, encoding="utf-8")
+        return self.open(self.page.as_uri(), timeout)
+
+    def wait_for(self, expression: str, timeout: float = 10.0) -> bool:
+        """Poll ``expression`` until it is true (True) or ``timeout`` seconds pass (False)."""
+        deadline = time.monotonic() + timeout
+        while not self.js(expression):
+            if time.monotonic() > deadline:
+                return False
+            time.sleep(0.05)
+        return True
 
     def errors(self) -> list[str]:
         """Console errors, uncaught exceptions and error log entries seen so far."""
@@ -130,9 +163,11 @@ class Browser:
 
         params = {"format": "png"}
         if selector:
-            b = self.box(selector)
-            time.sleep(0.3)
-            b = self.box(selector)
+            b, previous = self.box(selector), None
+            deadline = time.monotonic() + 3
+            while b != previous and time.monotonic() < deadline:  # where it stays over two frames
+                self.js("new Promise(r => requestAnimationFrame(() => requestAnimationFrame(r)))")
+                previous, b = b, self.box(selector)
             params["clip"] = {"x": b["px"], "y": b["py"], "width": b["w"], "height": b["h"], "scale": 1}
             params["captureBeyondViewport"] = True
         data = base64.b64decode(self.call("Page.captureScreenshot", **params)["data"])

@@ -35,6 +35,19 @@ FINI
 
 
 @pytest.fixture(scope="session")
+def browser():
+    """One headless Chromium for every browser test of a process (tests/report/cdp.py): it keeps
+    plotly.js compiled for the page URL that ``Browser.show`` reuses."""
+    pytest.importorskip("websocket")
+    from .cdp import Browser, chromium
+
+    if chromium() is None:
+        pytest.skip("no chromium on PATH (.ci/run installs it)")
+    with Browser() as b:
+        yield b
+
+
+@pytest.fixture(scope="session")
 def kubota_run(tmp_path_factory) -> Path:
     out = tmp_path_factory.mktemp("runs") / "kubota"
     assert main(["run", str(ROOT / "runs" / "kubota_ga.yaml"), "--out", str(out), "--quiet",

@@ -72,7 +72,8 @@ def synth(tmp_path_factory):
     study.write_text("name: tiny\nseed: 7\nseeds: 3\nbudget: {evaluations: 120}\nproblems:\n  - {name: kubota}\n"
                      "  - {name: rastrigin, dimensions: [2]}\nalgorithms:\n  - {name: ga, population: 10}\n"
                      "  - {name: vega, population: 10, virus: {count: 3}}\n  - {name: pymoo_de, pop_size: 10}\n"
-                     "statistics: {reference: ga, test: signed_rank, alpha: 0.05}\n")
+                     "statistics: {reference: ga, test: signed_rank, alpha: 0.05}\n"
+                     "output: {plots: false}\n")  # the report draws its own figures: the PNGs cost 9 s
     assert main(["study", str(study), "--out", str(base / "study"), "--quiet"]) == 0
     out["study"] = base / "study"
     # a simulation folder (simulation.json + deviation.npz, the layout evoplan simulate writes)

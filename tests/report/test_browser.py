@@ -1,55 +1,52 @@
-"""The report opened in a real browser (headless Chromium): it renders offline, plots drawn.
+"""The report opened in a real browser (headless Chromium over the DevTools protocol,
+``cdp.py``): it renders offline, plots drawn.
 
 Skipped when Debian's ``chromium`` is not installed (``.ci/run`` installs it when run as root).
+The Chromium is the session's (``conftest.browser``), shared with ``test_report_views.py``.
 """
 
 from __future__ import annotations
 
 import re
-import shutil
-import subprocess
 
 import numpy as np
 import pytest
 
 from evoplan.cli import main
 
+from .cdp import chromium
+
 pytest.importorskip("plotly")
-PIL = pytest.importorskip("PIL.Image")
-CHROMIUM = shutil.which("chromium")
-pytestmark = pytest.mark.skipif(CHROMIUM is None, reason="chromium is not installed "
+pytest.importorskip("PIL.Image")
+pytestmark = pytest.mark.skipif(chromium() is None, reason="chromium is not installed "
                                 "(apt-get install chromium; .ci/run does it as root)")
 
 
-def screenshot(html, png, height=900) -> tuple[np.ndarray, str]:
-    """Chromium's screenshot of ``html`` as an (h, w, 3) array, and its console log (stderr);
-    plots get 5 s of virtual time."""
-    cmd = [CHROMIUM, "--headless", "--no-sandbox", "--disable-gpu", "--enable-logging=stderr",
-           "--v=0", f"--screenshot={png}",
-           f"--window-size=1200,{height}", "--virtual-time-budget=5000", "--hide-scrollbars",
-           f"--user-data-dir={png.parent / 'profile'}", html.resolve().as_uri()]
-    done = subprocess.run(cmd, capture_output=True, text=True, timeout=60, check=True)
-    return np.asarray(PIL.open(png).convert("RGB"), dtype=float), done.stderr
-
-
-def test_console_check_sees_a_page_error(tmp_path):
-    """The log the report test reads does carry a page's uncaught errors."""
+def test_console_check_sees_a_page_error(browser, tmp_path):
+    """The errors the report tests read do carry a page's uncaught errors."""
     page = tmp_path / "bad.html"
     page.write_text("<html><body><script>undefined_function();</script></body></html>")
-    _, log = screenshot(page, tmp_path / "bad.png", height=200)
-    assert "Uncaught ReferenceError" in log
+    browser.events.clear()
+    browser.open(page.as_uri(), ready="true")
+    assert any("ReferenceError" in e and "undefined_function" in e for e in browser.errors())
 
 
-def test_run_report_renders_offline(toolpath_run, tmp_path):
+def test_run_report_renders_offline(toolpath_run, tmp_path, browser):
     out = tmp_path / "report.html"
     assert main(["report", str(toolpath_run), "--out", str(out)]) == 0
     html = out.read_text()
     # no request can leave the page: no external script, stylesheet, image or frame
     assert not re.search(r"<(script|link|img|iframe)[^>]+(src|href)\s*=\s*[\"']?(https?:)?//", html)
     assert not re.search(r"<script[^>]+src=", html)
-    image, log = screenshot(out, tmp_path / "shot.png", height=1900)
-    assert "Uncaught" not in log  # no script error on the page
-    assert "net::ERR" not in log and "Failed to load resource" not in log  # nothing requested
+    browser.events.clear()
+    browser.viewport(1200, 1900)
+    try:
+        browser.show(html)                                                # the file the command wrote
+        image = browser.screenshot().astype(float)
+    finally:
+        browser.viewport()
+    assert browser.errors() == []  # no script error on the page
+    assert [u for u in browser.requests() if not u.startswith(("file:", "data:"))] == []  # nothing requested
     assert image.shape[:2] == (1900, 1200)
     # not blank: the page is mostly white, but the plots put many distinct colours on it
     assert image.std() > 10

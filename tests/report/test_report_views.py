@@ -4,12 +4,14 @@ click changes what is shown (the trace's visibility and the screenshot's pixels)
 
 from __future__ import annotations
 
+import json
+
 import numpy as np
 import pytest
 
 from evoplan.report import build
 
-from .cdp import Browser, chromium, shots_dir
+from .cdp import chromium, shots_dir
 from .synth import synth  # noqa: F401 - the fixture
 
 pytestmark = pytest.mark.skipif(chromium() is None, reason="no chromium on PATH (.ci/run installs it)")
@@ -17,19 +19,11 @@ pytestmark = pytest.mark.skipif(chromium() is None, reason="no chromium on PATH 
 KINDS = ["pareto_run", "study", "simulation", "machine"]
 
 
-@pytest.fixture(scope="module")
-def browser():
-    pytest.importorskip("websocket")
-    with Browser() as b:
-        yield b
-
-
 @pytest.mark.parametrize("kind", KINDS)
 def test_report_opens_draws_and_reacts(synth, browser, kind):
-    page = synth[kind] / "browser.html"
-    page.write_text(build(synth[kind]))
     browser.events.clear()
-    browser.open(page.as_uri(), timeout=60)
+    browser.show(build(synth[kind]))
+    assert browser.js("document.title").endswith(f": {synth[kind].resolve().name}")  # this folder's page
     browser.js("document.querySelectorAll('.js-plotly-plot').forEach((g, i) => g.id = 'plot' + i)")
     assert browser.errors() == []
     assert [u for u in browser.requests() if not u.startswith(("file:", "data:"))] == []
@@ -47,8 +41,9 @@ def test_report_opens_draws_and_reacts(synth, browser, kind):
     before = browser.js(f"document.getElementById('{fig}')._fullData.map(t => t.visible)")
     box = browser.box(f"#{fig} .legend .traces .legendtoggle")
     browser.click(box["x"] + box["w"] / 2, box["y"] + box["h"] / 2)
-    browser.js("new Promise(r => setTimeout(r, 1000))")
-    after = browser.js(f"document.getElementById('{fig}')._fullData.map(t => t.visible)")
+    visible = f"document.getElementById('{fig}')._fullData.map(t => t.visible)"
+    browser.wait_for(f"JSON.stringify({visible}) !== {json.dumps(json.dumps(before, separators=(',', ':')))}")
+    after = browser.js(visible)
     assert after != before
     second = browser.screenshot(f"#{fig}", shots / f"{kind}_fig0_clicked.png")
     assert second.shape == first.shape and np.abs(second.astype(int) - first.astype(int)).sum() > 0
@@ -56,10 +51,8 @@ def test_report_opens_draws_and_reacts(synth, browser, kind):
 
 
 def test_hover_shows_a_points_decisions(synth, browser):
-    page = synth["pareto_run"] / "hover.html"
-    page.write_text(build(synth["pareto_run"]))
     browser.events.clear()
-    browser.open(page.as_uri(), timeout=60)
+    browser.show(build(synth["pareto_run"]))
     browser.js("document.querySelectorAll('.js-plotly-plot').forEach((g, i) => g.id = 'plot' + i)")
     div = browser.js("[...document.querySelectorAll('.js-plotly-plot')].find(g => g._fullData.some(t => "
                      "t.marker && t.marker.symbol === 'star')).id")
@@ -75,7 +68,7 @@ def test_hover_shows_a_points_decisions(synth, browser):
                     "return [r.x+xa._offset+xa.l2p(t.x[0]), r.y+ya._offset+ya.l2p(t.y[0])];})()")
     assert browser.js(f"document.querySelector('#{div} .hoverlayer').textContent") == ""
     browser.mouse("mouseMoved", xy[0], xy[1])
-    browser.js("new Promise(r => setTimeout(r, 400))")
+    browser.wait_for(f"document.querySelector('#{div} .hoverlayer').textContent !== ''", timeout=5)
     text = browser.js(f"document.querySelector('#{div} .hoverlayer').textContent")
     assert "stepover (% of D): 35" in text and "machining_time (min)" in text
     assert browser.errors() == []
