@@ -8,8 +8,12 @@ order), each zone labelled with its feed direction and cutting length; the CC pa
 the APT program (``export.apt_write.apt_toolpath``) opens each section with a
 ``$$ ZONE z PASS k`` comment, entered from and left to the safe height. ``toolpath.npz`` holds
 what ``evoplan report`` draws beside the APT program's moves: the CC points with their zone and
-pass, the part sampled on a (u, v) grid, the tolerance and the plan's analytic criteria (names
-and values; the units are the criteria table's).
+pass, one per CL point of the path (``cc``: the run-on / run-off points past the part's edge,
+into a trimmed face's holes and notches, included: each is its section's end CC point shifted
+along the travel), ``on_part`` (False for those), ``inserted`` (True for a point the chord
+refinement added, its ``on_part`` its left neighbour's), the part sampled on a (u, v)
+grid, the tolerance and the plan's analytic criteria (names and values; the units are the
+criteria table's). ``cc_count`` counts the plan's points on the part: ``on_part & ~inserted``.
 """
 
 from __future__ import annotations
@@ -124,7 +128,11 @@ def report_data(problem, batch, genes, path) -> bytes:
     mesh = problem.surface.points(u.ravel(), v.ravel()).reshape(REPORT_MESH, REPORT_MESH, 3)
     names = sorted(crit)
     buf = io.BytesIO()
-    np.savez_compressed(buf, cc=np.asarray(path.info["cc"], float), zone=path.zone, pass_index=path.pass_index,
+    cc = np.asarray(path.info["cc"], float)
+    on_part = np.asarray(path.info.get("on_part", np.ones(len(cc), bool)), bool)
+    inserted = np.asarray(path.info.get("inserted", np.zeros(len(cc), bool)), bool)
+    np.savez_compressed(buf, cc=cc, on_part=on_part, inserted=inserted, zone=path.zone,
+                        pass_index=path.pass_index,
                         surface=mesh, tolerance=float(problem.tolerance),
                         criteria_names=np.array(names), criteria_values=np.array([float(crit[k][0]) for k in names]))
     return buf.getvalue()
