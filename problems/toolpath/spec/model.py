@@ -87,6 +87,19 @@ def _mapping(what: str):
     return check
 
 
+def _moved_mesh(data):
+    """``mesh`` directly under the params (the old form): refused, naming ``zoning: {mesh}``."""
+    if not isinstance(data, dict) or "mesh" not in data:
+        return data
+    mesh, zoning = data["mesh"], data.get("zoning")
+    method = zoning if isinstance(zoning, str) else \
+        zoning.get("method") if isinstance(zoning, dict) else None
+    shown = (f"[{', '.join(f'{x:g}' for x in mesh)}]" if isinstance(mesh, (list, tuple))
+             and all(isinstance(x, (int, float)) for x in mesh) else repr(mesh))
+    raise ValueError(f"mesh: moved under zoning (zoning: {{method: {method or 'METHOD'}, "
+                     f"mesh: {shown}}})")
+
+
 def _flag(value):
     if not isinstance(value, bool):
         raise ValueError(f"{HERE}: expected true or false, got {value!r}")
@@ -97,6 +110,8 @@ class ToolpathSpec(BaseModel):
     """The toolpath problem's settings (docs/toolpath-spec.md lists every key)."""
 
     model_config = ConfigDict(extra="forbid", frozen=True, arbitrary_types_allowed=True)
+
+    _moved = model_validator(mode="before")(_moved_mesh)
 
     # the part and the tools
     surface: Annotated[surface_union() | SkipJsonSchema[Surface], BeforeValidator(_surface),

@@ -40,6 +40,21 @@ def _tool_id(value):
     return value
 
 
+def _renamed_key(data):
+    """An entry written with the old keys ``R`` / ``r`` (radii): refused, naming the new key."""
+    if not isinstance(data, dict):
+        return data
+    for old, new, factor in (("R", "diameter", 2.0), ("r", "corner_radius", 1.0)):
+        if old not in data:
+            continue
+        value = data[old]
+        form = f"{new} = 2R" if factor != 1 else new
+        if isinstance(value, (int, float)) and not isinstance(value, bool):
+            form += f" ({old}: {value:g} is {new}: {factor * value:g})"
+        raise ValueError(f"{HERE}.{old}: renamed {form}")
+    return data
+
+
 class ToolSettings(BaseModel):
     """One tool of the database (see the module doc)."""
 
@@ -58,6 +73,8 @@ class ToolSettings(BaseModel):
                                   "program; needed with plunge_feed or spindle)")
     plunge_feed: Positive | None = Field(None, description="mm/min")
     spindle: Positive | None = Field(None, description="rpm")
+
+    _renamed = model_validator(mode="before")(_renamed_key)
 
     @model_validator(mode="after")
     def _shape(self):

@@ -6,12 +6,13 @@ import json
 import numpy as np
 import pytest
 
+from evoplan.cli import main
 from evoplan.problems.toolpath import ToolpathProblem, ToolpathSpec
 from evoplan.problems.toolpath.cutters import CUTTERS, TaperedBallCutter
 from evoplan.problems.toolpath.export import toolpath as export_toolpath
 from evoplan.problems.toolpath.geometry.registry import SURFACES
 from evoplan.problems.toolpath.plan.zoning.methods import REGISTRY
-from evoplan.problems.toolpath.spec import tool_from_text
+from evoplan.problems.toolpath.spec import parse_tools, tool_from_text
 from evoplan.problems.toolpath.tools import Tool
 
 FIXED = {"tool": 8, "stepover": 30.0, "lead": 2.0, "tilt": 1.0, "step": 8.0}
@@ -57,8 +58,52 @@ def test_unknown_keys_are_named_with_the_known_ones():
     assert _error(colour=1).startswith("colour: unknown key (known: surface, tools, machine,")
     assert _error(zoning={"method": "kmeans", "colour": 1}) == (
         "zoning.colour: unknown key (known: method, mesh, merge, settings, seed)")
-    assert _error(tools=[{"diameter": 8, "r": 1, "d": 2}]).startswith("tools[0]: unknown keys d, r (known: id,")
+    assert _error(tools=[{"diameter": 8, "colour": 1, "d": 2}]).startswith("tools[0]: unknown keys colour, d (known: id,")
     assert "base_dir" not in _error(colour=1)
+
+
+# older run files: ``mesh`` directly under the params (now ``zoning: {mesh}``) and a tool's
+# ``R`` / ``r`` (now ``diameter`` = 2R, ``corner_radius``) name their new form
+@pytest.mark.parametrize("params,line", [
+    ({"mesh": [12, 12]}, "mesh: moved under zoning (zoning: {method: METHOD, mesh: [12, 12]})"),
+    ({"mesh": [24, 20], "zoning": "kmeans", "machine": "3axis"},
+     "mesh: moved under zoning (zoning: {method: kmeans, mesh: [24, 20]})"),
+    ({"mesh": [8, 8], "zoning": {"method": "amas"}},
+     "mesh: moved under zoning (zoning: {method: amas, mesh: [8, 8]})"),
+    ({"tools": [{"id": 1, "type": "ball", "R": 5}]}, "tools[0].R: renamed diameter = 2R (R: 5 is diameter: 10)"),
+    ({"tools": [{"diameter": 8, "corner_radius": 0}, {"diameter": 10, "r": 2}]},
+     "tools[1].r: renamed corner_radius (r: 2 is corner_radius: 2)"),
+    ({"tools": [{"R": 2.5, "r": 1}]}, "tools[0].R: renamed diameter = 2R (R: 2.5 is diameter: 5)"),
+])
+def test_old_keys_name_their_new_form(params, line):
+    assert _error(**params) == line
+
+
+def test_the_hint_reaches_every_reader_of_a_tool():
+    with pytest.raises(ValueError, match=r"^tools\[0\]\.r: renamed corner_radius"):
+        parse_tools([{"diameter": 6, "r": 3}])
+    with pytest.raises(ValueError, match=r"^--tool '12,R=6': tool\.R: renamed diameter = 2R"):
+        tool_from_text("12,R=6")
+    assert _error(zoning={"method": "kmeans", "mesh": [12, 12]}, machine="3axis",
+                  tools=[{"diameter": 10, "corner_radius": 5, "R": 5}]).startswith("tools[0].R: ")
+    ToolpathSpec.from_params({"zoning": {"method": "kmeans", "mesh": [12, 12]}, "machine": "3axis",
+                              "tools": [{"diameter": 10, "corner_radius": 2}]})  # the new form
+
+
+@pytest.mark.parametrize("params,key", [
+    ("    mesh: [12, 12]\n    zoning: kmeans\n", "mesh: moved under zoning"),
+    ("    tools: [{id: 1, R: 5, r: 5}]\n", "tools[0].R: renamed diameter = 2R"),
+])
+def test_a_run_file_with_an_old_key_is_one_line_and_writes_nothing(tmp_path, capsys, params, key):
+    run = tmp_path / "old.yaml"
+    run.write_text("problem:\n  name: toolpath\n  params:\n    machine: 3axis\n" + params
+                   + "algorithm: {name: vega, population: 4}\ntermination: {generations: 1}\n")
+    out = tmp_path / "res"
+    assert main(["run", str(run), "--out", str(out)]) == 2
+    captured = capsys.readouterr()
+    err = captured.err.strip().splitlines()
+    assert len(err) == 1 and str(run) in err[0] and key in err[0], err
+    assert "Traceback" not in captured.err and not out.exists()
 
 
 def test_the_problem_is_built_from_the_spec_as_from_keywords():
@@ -117,7 +162,6 @@ def test_simulate_cuts_an_nc_program_with_a_tapered_ball(tmp_path, capsys):
     cutter the plan was made with: the same residual as simulating the plan itself."""
     import yaml
 
-    from evoplan.cli import main
     from evoplan.problems.toolpath.export.kinematics import Kinematics, Rotary
     from evoplan.problems.toolpath.export.posts import POSTS, Machine
     from evoplan.problems.toolpath.export.toolpath import Toolpath
