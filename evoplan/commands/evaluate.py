@@ -191,14 +191,15 @@ def _nc_program(problem, X, post_name: str) -> bytes:
     """The NC program of the plan of row X[0] (the tool numbered by its id)."""
     from ..problems.toolpath.export.kinematics import Kinematics, Rotary
     from ..problems.toolpath.export.posts import POSTS, Machine
-    from ..problems.toolpath.export.toolpath import Toolpath
+    from ..problems.toolpath.export.toolpath import Toolpath, surface_comment
 
     cls = POSTS[post_name]
     genes = problem.genes.decode(problem.check(X))
     path = problem.planner.cl_path(genes, problem.programmed_feed(genes))
     tool = problem.tool_db.tools[int(genes["tool"][0])]
     tp = Toolpath.from_sections("finish", tool, path.tip, path.axis, path.section,
-                                feed=path.feed_rate, plunge_feed=tool.plunge_feed)
+                                feed=path.feed_rate, plunge_feed=tool.plunge_feed,
+                                comments=[surface_comment(problem.surface, problem.spec.surface)])
     if not cls.five_axis and tp.multi_axis:
         raise ValueError(f"{post_name} is a 3-axis post and the plan is 5-axis (use fanuc, heidenhain or siemens)")
     kin = Kinematics("table_table", Rotary("A", "x", (-30.0, 110.0)), Rotary("C", "z", (-360.0, 360.0)))

@@ -122,12 +122,16 @@ def _plan_apt(problem, params: dict, path, label: str) -> dict[str, bytes]:
     import textwrap
 
     from ..problems.toolpath.export.apt_write import apt_plan
+    from ..problems.toolpath.export.toolpath import surface_comment
 
     tool_db, genes = getattr(problem, "tool_db", None), getattr(problem, "genes", None)
     if tool_db is None or genes is None:  # a problem of user code without a tool database
         return {}
     tool = tool_db.tools[int(genes.decode(problem.row(params))["tool"][0])]
-    text = apt_plan(path, tool, comments=textwrap.wrap(f"evoplan simulate: {label}", 66))
+    comments = textwrap.wrap(f"evoplan simulate: {label}", 66)
+    if getattr(problem, "surface", None) is not None:  # its type (a mesh: the fit's deviation)
+        comments.append(surface_comment(problem.surface, getattr(problem.spec, "surface", None)))
+    text = apt_plan(path, tool, comments=comments)
     return {"toolpath.apt": text.encode()}
 
 

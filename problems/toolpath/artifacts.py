@@ -5,8 +5,9 @@ of one zone): the zone map draws the zones on the parametric mesh in plan view, 
 borders and the sections actually cut (the CC points of each section joined in machining
 order), each zone labelled with its feed direction and cutting length; the CC pattern
 (``figures.cc_pattern_png``) colours the CC points by zone, or by chord error for one zone (5-axis);
-the APT program (``export.apt_write.apt_toolpath``) opens each section with a
-``$$ ZONE z PASS k`` comment, entered from and left to the safe height. ``toolpath.npz`` holds
+the APT program (``export.apt_write.apt_toolpath``) has the title and the surface
+(``export.toolpath.surface_comment``: a mesh's fit deviation) as header comments and opens
+each section with a ``$$ ZONE z PASS k`` comment, entered from and left to the safe height. ``toolpath.npz`` holds
 what ``evoplan report`` draws beside the APT program's moves: the CC points with their zone and
 pass, one per CL point of the path (``cc``: the run-on / run-off points past the part's edge,
 into a trimmed face's holes and notches, included: each is its section's end CC point shifted
@@ -142,7 +143,7 @@ def plan_artifacts(problem, batch, genes, path) -> dict[str, bytes]:
     """``zone_map.png``, ``cc_pattern.png`` and ``toolpath.apt`` of plan 0 of ``batch``
     (``path``: its CLPath as the machine runs it); the title's lengths are the plan's own."""
     from .export.apt_write import apt_toolpath
-    from .export.toolpath import Tool, Toolpath
+    from .export.toolpath import Toolpath, surface_comment
     from .figures import cc_pattern_png
 
     tool = problem.tool_db.tools[int(genes["tool"][0])]
@@ -159,7 +160,9 @@ def plan_artifacts(problem, batch, genes, path) -> dict[str, bytes]:
              for i in starts}
     tp = Toolpath.from_sections("finish", tool,
                                 path.tip, path.axis, path.section, feed=path.feed_rate,
-                                comments=textwrap.wrap(title, 66), section_names=names)
+                                comments=[*textwrap.wrap(title, 66),
+                                          surface_comment(problem.surface, problem.spec.surface)],
+                                section_names=names)
     return {
         "zone_map.png": zone_map_png(problem.surface, batch, problem.labels(genes), title),
         "cc_pattern.png": cc_pattern_png(problem.surface, path.info["cc"], path.pass_index,

@@ -11,12 +11,34 @@ if it has none, at half the feed (the APT and the NC programs of a plan share it
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from pathlib import PurePath
 
 import numpy as np
 
 from ..tools import Tool
 
-__all__ = ["Tool", "Toolpath"]
+__all__ = ["Tool", "Toolpath", "surface_comment"]
+
+
+def surface_comment(surface, spec=None) -> str:
+    """The header comment naming the part's surface, for the APT file and the NC programs:
+    its type and file and, for a fitted one (``type: mesh``, a height field fitted to the
+    triangles), the fit's largest measured deviation from the mesh, e.g. ``surface: mesh
+    wavy_mesh.stl, fit max deviation 0.002623 mm`` (one line of the header; a long
+    file name wraps as any comment). ``spec``: the surface as the
+    run file gives it (a type name, a mapping or the validated settings) for the type and
+    file; else the surface's ``facts()`` say them (a mesh), else its class."""
+    facts = surface.facts() if callable(getattr(surface, "facts", None)) else {}
+    if isinstance(spec, str):
+        spec = {"type": spec}
+    get = spec.get if isinstance(spec, dict) else lambda k, d=None: getattr(spec, k, d)
+    kind = get("type") or facts.get("type") or type(surface).__name__
+    file = get("file") or facts.get("file")
+    text = f"surface: {kind}" + (f" {PurePath(str(file)).name}" if file else "")
+    fit = facts.get("fit")
+    if isinstance(fit, dict) and "max_deviation_mm" in fit:
+        text += f", fit max deviation {float(fit['max_deviation_mm']):.4g} mm"
+    return text
 
 
 @dataclass
