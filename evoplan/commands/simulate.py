@@ -130,7 +130,8 @@ def _plan_apt(problem, params: dict, path, label: str) -> dict[str, bytes]:
     tool = tool_db.tools[int(genes.decode(problem.row(params))["tool"][0])]
     comments = textwrap.wrap(f"evoplan simulate: {label}", 66)
     if getattr(problem, "surface", None) is not None:  # its type (a mesh: the fit's deviation)
-        comments.append(surface_comment(problem.surface, getattr(problem.spec, "surface", None)))
+        spec = getattr(getattr(problem, "spec", None), "surface", None)
+        comments.append(surface_comment(problem.surface, spec))
     text = apt_plan(path, tool, comments=comments)
     return {"toolpath.apt": text.encode()}
 
