@@ -106,14 +106,14 @@ CHOI_TOOLS = [
 
 class ToolDatabase:
     """Ordered tools; their cutters (:meth:`cutter`, ``cutters``) and array views ``R``
-    (radius), ``r`` (corner radius), ``ids`` for vectorized lookups by index."""
+    (radius: the planner's step-over in mm from the gene's % of D) and ``ids`` for vectorized
+    lookups by index (a corner radius: ``cutter(i).corner_radius``)."""
 
     def __init__(self, tools: list[Tool]):
         self.tools = list(tools)
         self.cutters = [t.cutter for t in self.tools]
         self.ids = np.array([t.id for t in self.tools], dtype=int)
         self.R = np.array([c.radius for c in self.cutters], dtype=float)
-        self.r = np.array([c.corner_radius for c in self.cutters], dtype=float)
 
     def __len__(self) -> int:
         return len(self.tools)
