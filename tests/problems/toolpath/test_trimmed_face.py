@@ -98,6 +98,23 @@ def test_isoscallop_passes_are_cut_at_the_trimming_loops(top):
     assert cut.sum() > 0.95 * grid.inside.sum()
 
 
+def test_isoparametric_curves_are_cut_at_the_trimming_loops(top):
+    """Iso-parametric curves of a trimmed face are cut where they leave its footprint (the
+    hole, the notch; before, their points there dropped to -inf and the plan was refused):
+    every CL point finite, no CC point off the face, the face machined."""
+    planner = Planner(top, parse_tools(BALL), machine="3axis", spacing="scallop", h_c=0.254,
+                      feed_angle=0.0, strategy="isoparametric")
+    genes = {"tool": np.array([0]), "step": np.array([3.0])}
+    batch = planner.plan(genes)
+    assert np.isfinite(batch.tip).all()
+    cc = batch.p[batch.on_part]
+    assert len(cc) > 500 and not off_face(cc[:, :2], 2 * DEFLECTION).any()
+    grid = design_grid(top, 0.5)
+    res = sweep_path(planner.cl_path(genes), grid).values
+    cut = grid.inside & np.isfinite(res) & (res < 0.5)
+    assert cut.sum() > 0.95 * grid.inside.sum()
+
+
 def test_contour_loops_go_round_the_hole_and_stay_on_the_face(top):
     """Contour offsets of a trimmed face are offsets of its footprint, hole included: every
     CL point is finite (the square's image and the corner passes across the hole and the

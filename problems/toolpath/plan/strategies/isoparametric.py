@@ -8,7 +8,8 @@ cross-feed width w that leaves h_c (``offsets.cross_width``, the model of the ot
 strategies) over the surface distance one unit of the parameter moves across the curve
 (|S_u . b|, b the unit cross-feed tangent), the smallest ratio of the curve; the last
 curve lies on the far edge u = 1. A curve is cut where it, or the next curve, lies in the
-zone (the band rule). Iso-parametric passes ignore the feed direction of the zone: on
+zone (the band rule), and on a trimmed face where it leaves the footprint (a hole, a
+notch: its ends there lie on the part's edge), whose points alone space it. Iso-parametric passes ignore the feed direction of the zone: on
 curved patches they are longer than iso-scallop passes (Zou et al. measure 9-22 %).
 """
 
@@ -16,6 +17,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ...geometry.footprint import footprint_of
 from ..curves import Piece
 from .base import CurveStrategy
 from .isoscallop import zigzag
@@ -28,6 +30,7 @@ def iso_passes(planner, layout, z, cutter, h_c, lead_tilt=None, along="u", sampl
                max_passes=5000):
     """[[Piece]] per iso-curve of zone z (u = const when ``along`` is ``u``)."""
     surface = planner.surface
+    fp = footprint_of(surface)
     s = np.linspace(0.0, 1.0, samples)
     fixed = 0 if along == "u" else 1
 
@@ -45,8 +48,10 @@ def iso_passes(planner, layout, z, cutter, h_c, lead_tilt=None, along="u", sampl
         b *= np.where(across >= 0, 1.0, -1.0)[:, None]
         across = np.abs(across)
         w = cross_width(surface, cutter, h_c, jet, t, b, lead_tilt)
+        on = np.ones(samples, bool) if fp.whole else fp.contains(uv[:, 0], uv[:, 1])
         last = x >= 1.0 - 1e-12
-        dx = 0.0 if last else float(np.min(w / np.maximum(across, 1e-12)))
+        ratio = (w / np.maximum(across, 1e-12))[on if on.any() else slice(None)]
+        dx = 0.0 if last else float(np.min(ratio))
         x_next = min(x + dx, 1.0)
         here = zone_mask(layout.labels, z, uv)
         band = here
@@ -59,7 +64,8 @@ def iso_passes(planner, layout, z, cutter, h_c, lead_tilt=None, along="u", sampl
             cross[:, :2] = dxy / np.maximum(gap, 1e-300)[:, None]
             band = here | zone_mask(layout.labels, z, nxt)
         pieces = [Piece(uv[a:e], cross[a:e], gap[a:e], z, k, layout.alpha[z],
-                        (a == 0, e == samples)) for a, e in runs(band) if e - a >= 2]
+                        (a == 0 or not on[a - 1], e == samples or not on[e]))
+                  for a, e in runs(band & on) if e - a >= 2]
         if pieces:
             out.append(pieces)
         if last:
