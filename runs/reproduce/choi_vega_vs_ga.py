@@ -182,7 +182,7 @@ def main() -> None:
     ap.add_argument("--backend", default="processes")
     ap.add_argument("--workers", type=int, default=2)
     ap.add_argument("--md", dest="report", default=None, help="report (default: the study folder's "
-                    "STEM.md; --regenerate: the committed one); the PNGs are written beside it")
+                    "case's report; --regenerate: the committed one); the PNGs are written beside it")
     ap.add_argument("--regenerate", action="store_true", help="rewrite the committed report beside this script")
     args = ap.parse_args()
     case = CASES[args.case]

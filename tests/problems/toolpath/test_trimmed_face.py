@@ -82,28 +82,11 @@ def test_no_cc_point_and_no_cut_cell_in_the_hole(top, zoned):
     assert cut.sum() > 0.95 * grid.inside.sum()  # the face around the hole is machined
 
 
-def test_isoscallop_passes_are_cut_at_the_trimming_loops(top):
-    """Iso-scallop offsets propagate across the hole, but are cut where they leave the
-    face (130 of 1225 CC points lay in the hole or the notch before): none is off it, the
-    pieces there end on the part's edge, and the face around them is machined."""
+def _plan_on_the_face(top, strategy):
+    """A 3-axis ball plan of the face with ``strategy``: (batch, the CC points on the part),
+    checked to be finite, off the hole and the notch, and to machine 95 % of the face."""
     planner = Planner(top, parse_tools(BALL), machine="3axis", spacing="scallop", h_c=0.254,
-                      feed_angle=0.0, strategy="isoscallop")
-    genes = {"tool": np.array([0]), "step": np.array([3.0])}
-    batch = planner.plan(genes)
-    cc = batch.p[batch.on_part]
-    assert len(cc) > 500 and not off_face(cc[:, :2], 2 * DEFLECTION).any()
-    grid = design_grid(top, 0.5)
-    res = sweep_path(planner.cl_path(genes), grid).values
-    cut = grid.inside & np.isfinite(res) & (res < 0.5)
-    assert cut.sum() > 0.95 * grid.inside.sum()
-
-
-def test_isoparametric_curves_are_cut_at_the_trimming_loops(top):
-    """Iso-parametric curves of a trimmed face are cut where they leave its footprint (the
-    hole, the notch; before, their points there dropped to -inf and the plan was refused):
-    every CL point finite, no CC point off the face, the face machined."""
-    planner = Planner(top, parse_tools(BALL), machine="3axis", spacing="scallop", h_c=0.254,
-                      feed_angle=0.0, strategy="isoparametric")
+                      feed_angle=0.0, strategy=strategy)
     genes = {"tool": np.array([0]), "step": np.array([3.0])}
     batch = planner.plan(genes)
     assert np.isfinite(batch.tip).all()
@@ -113,6 +96,16 @@ def test_isoparametric_curves_are_cut_at_the_trimming_loops(top):
     res = sweep_path(planner.cl_path(genes), grid).values
     cut = grid.inside & np.isfinite(res) & (res < 0.5)
     assert cut.sum() > 0.95 * grid.inside.sum()
+    return batch, cc
+
+
+@pytest.mark.parametrize("strategy", ["isoscallop", "isoparametric"])
+def test_curve_passes_are_cut_at_the_trimming_loops(top, strategy):
+    """Iso-scallop offsets propagate across the hole and iso-parametric curves run over it,
+    but both are cut where they leave the face (iso-scallop: 130 of 1225 CC points lay in
+    the hole or the notch before; iso-parametric: its points there dropped to -inf and the
+    plan was refused): every CL point finite, none off the face, the face machined."""
+    _plan_on_the_face(top, strategy)
 
 
 def test_contour_loops_go_round_the_hole_and_stay_on_the_face(top):
@@ -120,21 +113,11 @@ def test_contour_loops_go_round_the_hole_and_stay_on_the_face(top):
     CL point is finite (the square's image and the corner passes across the hole and the
     notch made -inf drops before), no CC point is off the face, loops run round the hole
     within one spacing of it, and the face is machined."""
-    planner = Planner(top, parse_tools(BALL), machine="3axis", spacing="scallop", h_c=0.254,
-                      feed_angle=0.0, strategy="contour")
-    genes = {"tool": np.array([0]), "step": np.array([3.0])}
-    batch = planner.plan(genes)
-    assert np.isfinite(batch.tip).all()
-    cc = batch.p[batch.on_part]
-    assert len(cc) > 500 and not off_face(cc[:, :2], 2 * DEFLECTION).any()
+    _, cc = _plan_on_the_face(top, "contour")
     ring = np.hypot(cc[:, 0] - HX, cc[:, 1] - HY)
     near = (ring > HR) & (ring < HR + 3.0)  # within a spacing of the hole's edge
     angles = np.arctan2(cc[near, 1] - HY, cc[near, 0] - HX)
     assert np.histogram(angles, bins=12, range=(-np.pi, np.pi))[0].min() > 0  # all the way round
-    grid = design_grid(top, 0.5)
-    res = sweep_path(planner.cl_path(genes), grid).values
-    cut = grid.inside & np.isfinite(res) & (res < 0.5)
-    assert cut.sum() > 0.95 * grid.inside.sum()
 
 
 def test_the_committed_part_is_what_its_script_makes(tmp_path):
