@@ -158,7 +158,7 @@ READING = """
   and contour plans with the torus gouge by 0.23 and 0.18 mm, at the part's corner and
   edges (69 cells of 0.5 mm on the iso-scallop plan), where parallel planes at the same
   lead do not. On the STEP face the p99 is within h_c on every plan but one (iso-scallop
-  ball, 0.050) and the maxima are 2.2-4.3 h_c: local spots, not located this session.
+  ball, 0.050) and the maxima are 2.5-4.7 h_c: local spots, not located this session.
 - **Lead.** At Fountas' published lead of about 3 deg the torus's effective radius across
   the feed (98.5 mm) exceeds the part's concave radius across it (66-122 mm at three points
   sampled), the spacing formula has no answer and falls back to the cutter's width, and the
