@@ -167,20 +167,15 @@ def summary(cfg: ZoneBase, planner, genes, batch, seconds: float) -> dict[str, A
 def toolpath_apt(planner, genes, facts) -> bytes:
     """The plan as an APT CL file (the CL path the machine runs: drop-cutter tips, each
     section one feed motion), so an outside simulator can measure it."""
-    from ..problems.toolpath.export.apt_write import apt_toolpath
-    from ..problems.toolpath.export.toolpath import Toolpath
+    import textwrap
+
+    from ..problems.toolpath.export.apt_write import apt_plan
 
     path = planner.cl_path(genes, float(planner.tools.feeds(1000.0)[0]))
-    tool = planner.tools.tools[0]
-    starts = [i for i in range(len(path)) if i == 0 or path.section[i] != path.section[i - 1]]
-    names = {int(path.section[i]): f"ZONE {path.zone[i]} PASS {path.pass_index[i]}"
-             for i in starts}
     title = (f"{facts['name']}: {facts['method']} {facts['n_zones']} zones, "
              f"{facts['strategy']}, h_c {facts['h_c']} mm")
-    tp = Toolpath.from_sections("finish", tool,
-                                path.tip, path.axis, path.section, feed=path.feed_rate,
-                                comments=[title[:66]], section_names=names)
-    return apt_toolpath(tp, part="EVOPLAN ZONE").encode()
+    return apt_plan(path, planner.tools.tools[0], part="EVOPLAN ZONE",
+                    comments=textwrap.wrap(title, 66)).encode()
 
 
 def zones_csv(features, labels) -> bytes:

@@ -5,7 +5,7 @@ of one zone): the zone map draws the zones on the parametric mesh in plan view, 
 borders and the sections actually cut (the CC points of each section joined in machining
 order), each zone labelled with its feed direction and cutting length; the CC pattern
 (``figures.cc_pattern_png``) colours the CC points by zone, or by chord error for one zone (5-axis);
-the APT program (``export.apt_write.apt_toolpath``) has the title and the surface
+the APT program (``export.apt_write.apt_plan``) has the title and the surface
 (``export.toolpath.surface_comment``: a mesh's fit deviation) as header comments and opens
 each section with a ``$$ ZONE z PASS k`` comment, entered from and left to the safe height. ``toolpath.npz`` holds
 what ``evoplan report`` draws beside the APT program's moves: the CC points with their zone and
@@ -142,8 +142,8 @@ def report_data(problem, batch, genes, path) -> bytes:
 def plan_artifacts(problem, batch, genes, path) -> dict[str, bytes]:
     """``zone_map.png``, ``cc_pattern.png`` and ``toolpath.apt`` of plan 0 of ``batch``
     (``path``: its CLPath as the machine runs it); the title's lengths are the plan's own."""
-    from .export.apt_write import apt_toolpath
-    from .export.toolpath import Toolpath, surface_comment
+    from .export.apt_write import apt_plan
+    from .export.toolpath import surface_comment
     from .figures import cc_pattern_png
 
     tool = problem.tool_db.tools[int(genes["tool"][0])]
@@ -155,20 +155,14 @@ def plan_artifacts(problem, batch, genes, path) -> dict[str, bytes]:
         idx = batch.points_of(0)
         chord = batch.chord[idx] if len(idx) == len(path) else None
         color, label, categories = chord, "chord error (mm)" if chord is not None else "", None
-    starts = np.flatnonzero(np.r_[True, np.diff(path.section) != 0])
-    names = {int(path.section[i]): f"ZONE {path.zone[i]} PASS {path.pass_index[i]}"
-             for i in starts}
-    tp = Toolpath.from_sections("finish", tool,
-                                path.tip, path.axis, path.section, feed=path.feed_rate,
-                                comments=[*textwrap.wrap(title, 66),
-                                          surface_comment(problem.surface, problem.spec.surface)],
-                                section_names=names)
+    apt = apt_plan(path, tool, comments=[*textwrap.wrap(title, 66),
+                                         surface_comment(problem.surface, problem.spec.surface)])
     return {
         "zone_map.png": zone_map_png(problem.surface, batch, problem.labels(genes), title),
         "cc_pattern.png": cc_pattern_png(problem.surface, path.info["cc"], path.pass_index,
                                          title="\n".join(textwrap.wrap(title, 110)),
                                          color=color, color_label=label,
                                          categories=categories),
-        "toolpath.apt": apt_toolpath(tp, part="EVOPLAN TOOLPATH").encode(),
+        "toolpath.apt": apt.encode(),
         "toolpath.npz": report_data(problem, batch, genes, path),
     }

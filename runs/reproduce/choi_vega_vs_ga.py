@@ -125,7 +125,8 @@ def plan_row(problem: ToolpathProblem, params: dict, grid) -> dict:
     crit = problem.evaluate_params(params)
     path, labels = problem.cl_path(params)
     sim = simulate(path, grid, allowance=ALLOWANCE, mesh_labels=labels)
-    return {"crit": crit, "sim": sim.metrics, "residual": sim.residual.values, "cells": sim.labels}
+    return {"crit": crit, "sim": sim.metrics, "residual": sim.residual.values, "cells": sim.labels,
+            "path": path, "labels": labels}
 
 
 def strategy_name(problem: ToolpathProblem, p: dict) -> str | None:
@@ -142,8 +143,8 @@ def short_decisions(problem: ToolpathProblem, p: dict) -> str:
     if "stepover" in p:
         parts.append(f"{p['stepover']:.1f} %")
     parts.append(f"{p['step']:.2f} mm")
-    if strategy_name(problem, p):
-        parts.append(strategy_name(problem, p))
+    if (name := strategy_name(problem, p)):
+        parts.append(name)
     parts.append(f"K {p['zones']} -> {zones:.0f} zone{'s' if zones != 1 else ''}")
     return ", ".join(parts)
 
@@ -154,17 +155,18 @@ def fmt_params(problem: ToolpathProblem, p: dict) -> str:
     if "stepover" in p:
         parts.append(f"step-over {p['stepover']:.2f} % of D")
     parts.append(f"step {p['step']:.3f} mm")
-    if strategy_name(problem, p):
-        parts.append(f"strategy {strategy_name(problem, p)}")
+    if (name := strategy_name(problem, p)):
+        parts.append(f"strategy {name}")
     parts.append(f"K-means K {p['zones']}")
     return ", ".join(parts)
 
 
-def fine_rows(problem: ToolpathProblem, params: dict) -> dict:
-    """The simulated max / p99 and the verdict of one decision set on every verdict grid."""
-    path, labels = problem.cl_path(params)
-    sims = {h: simulate(path, design_grid(problem.surface, h), allowance=ALLOWANCE,
-                        mesh_labels=labels).metrics for h in VERDICT_GRIDS_MM}
+def fine_rows(problem: ToolpathProblem, plan: dict, grid_mm: float) -> dict:
+    """The simulated max / p99 and the verdict of a :func:`plan_row` on every verdict grid
+    (its own ``grid_mm`` simulation reused)."""
+    sims = {h: plan["sim"] if np.isclose(h, grid_mm) else
+            simulate(plan["path"], design_grid(problem.surface, h), allowance=ALLOWANCE,
+                     mesh_labels=plan["labels"]).metrics for h in VERDICT_GRIDS_MM}
     v = verdicts(sims, problem.planner.h_c, problem.planner.tolerance)
     out = {f"sim. max / p99 @{h} (mm)": f"{sims[h]['scallop_max_mm']:.3f} / {sims[h]['scallop_p99_mm']:.3f}"
            for h in VERDICT_GRIDS_MM}
@@ -261,7 +263,7 @@ def main() -> None:
             "meets h_c": "yes" if s["scallop_p99_mm"] < h_c and s["scallop_max_mm"] <= 1.1 * h_c
             else "no"})
         if case.fine:
-            best_rows[-1].update(fine_rows(problem, params))
+            best_rows[-1].update(fine_rows(problem, plans[alg], grid_mm))
         plans[alg]["params"] = params
     t_sim = time.perf_counter() - t0
     top = min(ALGORITHMS, key=lambda a: plans[a]["crit"]["objective"])
