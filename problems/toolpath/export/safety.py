@@ -61,27 +61,26 @@ def rotary_travel(angles: np.ndarray, pole_angle: float) -> tuple[float, float]:
     return float(dc.sum()), float(dc[near].sum())
 
 
-def _split_turns(mv, zz: np.ndarray, low: np.ndarray, single: np.ndarray,
+def _split_turns(mv, low: np.ndarray, single: np.ndarray,
                  threshold: float) -> list[tuple[int, int, int, float]]:
     """Runs of consecutive non-cutting blocks below the clearance plane (rapids, and feed
     blocks whose tip moves less than ``TOL``) whose summed turn of one rotary passes
     ``threshold``: (first move, last move, blocks that turn, largest sum) of its turning
-    blocks each; block ``i`` goes from move ``i`` to ``i + 1``. A run holding a block already over the threshold on its own (``single``) is
-    reported there, not again."""
+    blocks each; block ``i`` goes from move ``i`` to ``i + 1``. A run holding a block already
+    over the threshold on its own (``single``) is reported there, not again."""
     step = np.nan_to_num(np.abs(np.diff(mv.angles, axis=0)))
     moved = np.nan_to_num(np.abs(np.diff(np.where(np.isfinite(mv.tip), mv.tip, 0.0), axis=0)).max(axis=1))
     idle = (mv.rapid[1:] | (moved < TOL)) & low
-    runs, start = [], None
-    for i in range(len(idle) + 1):
-        if i < len(idle) and idle[i]:
-            start = i if start is None else start
-            continue
-        if start is not None:
-            total = float(step[start:i].sum(axis=0).max())
-            if total > threshold + TOL and not single[start:i].any():
-                turning = start + np.flatnonzero(step[start:i].max(axis=1) > 0)
-                runs.append((int(turning[0]), int(turning[-1]) + 1, len(turning), total))
-            start = None
+    edges = np.diff(np.r_[0, idle.astype(np.int8), 0])
+    starts, ends = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)  # run [start, end)
+    cum = np.vstack([np.zeros((1, step.shape[1])), np.cumsum(step, axis=0)])
+    total = (cum[ends] - cum[starts]).max(axis=1, initial=0.0)
+    singles = np.r_[0, np.cumsum(single)]
+    hit = (total > threshold + TOL) & (singles[ends] == singles[starts])
+    runs = []
+    for a, e, t in zip(starts[hit], ends[hit], total[hit]):
+        turning = a + np.flatnonzero(step[a:e].max(axis=1) > 0)
+        runs.append((int(turning[0]), int(turning[-1]) + 1, len(turning), float(t)))
     return runs
 
 
@@ -119,7 +118,7 @@ def check_program(post, text: str, safe_z: float) -> SafetyReport:
                               f"below the clearance plane {safe_z:.3f}")
     single = (turn > kin.rotary_threshold + TOL) & low
     rep.repositions = int((turn > kin.rotary_threshold + TOL).sum())
-    for i, j, k, total in _split_turns(mv, zz, low, single, kin.rotary_threshold)[:5]:
+    for i, j, k, total in _split_turns(mv, low, single, kin.rotary_threshold)[:5]:
         rep.violations.append(f"moves {i + 1}-{j}: rotaries turn by {total:.2f} deg in {k} non-cutting blocks "
                               f"at Z {zz[i:j + 1].min():.3f}, below the clearance plane {safe_z:.3f}")
     if kin.pole_angle > 0:
