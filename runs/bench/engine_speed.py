@@ -108,11 +108,10 @@ def _use_numpy(numpy: bool) -> None:
     from evoplan.problems.toolpath.cutters import shapes
     from evoplan.problems.toolpath.cutters.base import Cutter
     from evoplan.problems.toolpath.geometry import rows
-    from evoplan.problems.toolpath.plan import points
 
     compiled = _use_numpy.__dict__.setdefault("compiled", (rows.interp_rows, shapes._Revolved.cc_to_tip))
     interp, tip = (rows.interp_rows_numpy, Cutter.cc_to_tip) if numpy else compiled
-    points.interp_rows = scallop.interp_rows = interp
+    scallop.interp_rows = interp
     shapes._Revolved.cc_to_tip = tip
 
 

@@ -24,7 +24,7 @@ from scipy.spatial import cKDTree
 from ..geometry.crossings import edges_of, line_intervals
 from ..geometry.footprint import footprint_of
 from ..geometry.surface import Surface
-from .seed_kernel import extent, seed_uv
+from .seed_kernel import extent, newton_step, seed_feed, seed_uv
 
 __all__ = ["PassGeometry"]
 
@@ -58,6 +58,26 @@ def _with_corners(grid, loops, c, tol):
     out = np.unique(np.concatenate([grid, extra[~near]]))
     keep = np.r_[True, np.diff(out) > tol]
     return out[keep]
+
+
+def _vector(x, shape=None) -> np.ndarray:
+    """x as a C-contiguous, writable float64 array (broadcast to ``shape``): the one type the
+    compiled passes take."""
+    x = np.asarray(x, float)
+    if shape is not None and x.shape != shape:
+        x = np.broadcast_to(x, shape)
+    return x if x.flags.c_contiguous and x.flags.writeable else np.array(x, float)
+
+
+def newton_step_numpy(d, s, u, v, pc, pf, a11, a12, a21, a22):
+    """``seed_kernel.newton_step`` in numpy (the reference the compiled pass is tested
+    against): the new (u, v) and the steps (du, dv)."""
+    r1, r2 = pc - d, pf - s
+    det = a11 * a22 - a12 * a21
+    det = np.where(np.abs(det) > 1e-300, det, 1e-300)
+    un = np.clip(u - (a22 * r1 - a12 * r2) / det, 0.0, 1.0)
+    vn = np.clip(v - (a11 * r2 - a21 * r1) / det, 0.0, 1.0)
+    return un, vn, un - u, vn - v
 
 
 class PassGeometry:
@@ -129,17 +149,13 @@ class PassGeometry:
         (p + su du + sv dv: error ~ curvature x step^2, ~1e-9 mm from a table seed).
         """
         c, f = self.c, self.f
+        u, v = _vector(u), _vector(v)
+        d, s = _vector(d, u.shape), _vector(s, u.shape)
         for it in range(iters):
             j = self.surface.jet(u, v, order=1)
-            r1 = j.p[:, :2] @ c - d
-            r2 = j.p[:, :2] @ f - s
-            a11, a12 = j.su[:, :2] @ c, j.sv[:, :2] @ c
-            a21, a22 = j.su[:, :2] @ f, j.sv[:, :2] @ f
-            det = a11 * a22 - a12 * a21
-            det = np.where(np.abs(det) > 1e-300, det, 1e-300)
-            un = np.clip(u - (a22 * r1 - a12 * r2) / det, 0.0, 1.0)
-            vn = np.clip(v - (a11 * r2 - a21 * r1) / det, 0.0, 1.0)
-            du, dv, u, v = un - u, vn - v, un, vn
+            u, v, du, dv = newton_step(  # one compiled pass after numpy's projections
+                d, s, u, v, j.p[:, :2] @ c, j.p[:, :2] @ f, j.su[:, :2] @ c, j.sv[:, :2] @ c,
+                j.su[:, :2] @ f, j.sv[:, :2] @ f)
             if it + 1 < iters and max(np.abs(du).max(initial=0.0),
                                       np.abs(dv).max(initial=0.0)) < 1e-13:
                 break  # converged (quadratically, from a close seed: ~5 steps for the table)
@@ -218,6 +234,12 @@ class PassGeometry:
         Bilinear seed from the table (:meth:`seed`), then ``iters`` Newton steps: one step
         is within ~1e-8 mm, two reach round-off (tested).
         """
-        u, v = self.seed(d, tau)
-        lo, hi = self.pass_extent(d)
-        return self._newton(d, lo + tau * (hi - lo), u, v, max(iters, 1), with_points=True)
+        d, tau = np.asarray(d, float), np.asarray(tau, float)
+        if d.shape == tau.shape and d.ndim == 1:  # one compiled pass: seed and feed coordinate
+            d, tau = _vector(d), _vector(tau)
+            u, v, s = seed_feed(self.d_grid, self.U, self.V, self.s_lo, self.s_hi, d, tau)
+        else:
+            u, v = self.seed(d, tau)
+            lo, hi = self.pass_extent(d)
+            s = lo + tau * (hi - lo)
+        return self._newton(d, s, u, v, max(iters, 1), with_points=True)

@@ -24,10 +24,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..geometry.chord import chord_deviation
-from ..geometry.rows import interp_rows, ranges
-from .planes import PassGeometry
+from ..geometry.rows import interp_rows_numpy, ranges
+from .planes import PassGeometry, _vector
+from .seed_kernel import section_points
 
-__all__ = ["SectionPoints", "sample_sections"]
+__all__ = ["SectionPoints", "sample_sections", "section_points_numpy"]
 
 
 @dataclass
@@ -59,13 +60,12 @@ def _arc_at(arc, tau_grid, tau):
     return arc[rows, t0] * (1 - w) + arc[rows, t0 + 1] * w
 
 
-def sample_sections(geom: PassGeometry, d, ta, tb, step, tol: float,
-                    max_rounds: int = 6) -> SectionPoints:
-    """CC points of S sections: plane offsets d (S,), feed stretches [ta, tb] (S,) of the
-    normalized feed coordinate, maximum step (S,) mm, cut tolerance tol (mm)."""
+def section_points_numpy(geom: PassGeometry, d, ta, tb, step):
+    """``seed_kernel.section_points`` in numpy (the reference the compiled pass is tested
+    against): (pt_sec, tau, segment starts) of the sections' first points, ceil(L / step)
+    segments each uniformly in arc length."""
     d, ta, tb = (np.asarray(a, float) for a in (d, ta, tb))
     step = np.broadcast_to(np.asarray(step, float), d.shape)
-    n_sec = len(d)
     arc = geom.arc_rows(d)
     a0, a1 = _arc_at(arc, geom.tau_grid, ta), _arc_at(arc, geom.tau_grid, tb)
     length = np.maximum(a1 - a0, 0.0)
@@ -73,12 +73,22 @@ def sample_sections(geom: PassGeometry, d, ta, tb, step, tol: float,
     pt_sec, q = ranges(nseg + 1)
     target = a0[pt_sec] + q / nseg[pt_sec] * length[pt_sec]
     # row by row: a plan's points never depend on the other plans of its batch
-    tau = interp_rows(arc, geom.tau_grid, target, pt_sec)
+    tau = interp_rows_numpy(arc, geom.tau_grid, target, pt_sec)
     tau = np.where(q == 0, ta[pt_sec], np.where(q == nseg[pt_sec], tb[pt_sec], tau))
-    u, v, p = geom.locate(d[pt_sec], tau)
     first = np.ones(len(tau), bool)
     first[1:] = pt_sec[1:] != pt_sec[:-1]
-    a = np.flatnonzero(~np.r_[first[1:], True])  # segment starts: every point but a section end
+    return pt_sec, tau, np.flatnonzero(~np.r_[first[1:], True])
+
+
+def sample_sections(geom: PassGeometry, d, ta, tb, step, tol: float,
+                    max_rounds: int = 6) -> SectionPoints:
+    """CC points of S sections: plane offsets d (S,), feed stretches [ta, tb] (S,) of the
+    normalized feed coordinate, maximum step (S,) mm, cut tolerance tol (mm)."""
+    d, ta, tb = (_vector(a) for a in (d, ta, tb))
+    step = _vector(step, d.shape)
+    n_sec = len(d)
+    pt_sec, tau, a = section_points(geom.d_grid, geom.arc, geom.tau_grid, d, ta, tb, step)
+    u, v, p = geom.locate(d[pt_sec], tau)
     b = a + 1
     seg = dict(sec=pt_sec[a], ta=tau[a], tb=tau[b], pa=p[a], pb=p[b],
                ua=u[a], va=v[a], ub=u[b], vb=v[b])

@@ -41,7 +41,7 @@ import numpy as np
 
 from ..geometry.rows import ranges
 from .planes import PassGeometry
-from .seed_kernel import band_inside, zone_cells
+from .seed_kernel import band_inside, band_runs, band_runs_max, zone_cells
 
 __all__ = ["Sections", "plane_offsets", "stretch_runs", "full_plane_sections", "zone_sections",
            "layout_zone_cells"]
@@ -109,10 +109,18 @@ def edge_runs(geom: PassGeometry, d, up, down, samples: int = 4):
     is oblique to the planes, the neighbouring plane meets it later: the wedge of part
     between the two is only reached if this plane's pass runs on past its end by that much
     (``overrun.py``)."""
-    lo, hi = geom.pass_extent(d)
+    c = np.ascontiguousarray
+    return band_runs_max(geom.d_grid, geom.s_lo, geom.s_hi, c(d, float), c(up, float),
+                         c(down, float), np.arange(1, samples + 1) / samples)
+
+
+def edge_runs_numpy(geom: PassGeometry, d, up, down, samples: int = 4):
+    """:func:`edge_runs` in numpy (the reference its compiled pass,
+    ``seed_kernel.band_runs_max``, is tested against)."""
+    lo, hi = geom.pass_extent_numpy(d)
     run_lo, run_hi = np.zeros_like(d), np.zeros_like(d)
     offs = [off for f in np.arange(1, samples + 1) / samples for off in (f * up, -f * down)]
-    lo_all, hi_all = geom.pass_extent(np.stack([d + off for off in offs]))  # one pass
+    lo_all, hi_all = geom.pass_extent_numpy(np.stack([d + off for off in offs]))
     for lo2, hi2 in zip(lo_all, hi_all):
         run_lo = np.maximum(run_lo, lo - lo2)
         run_hi = np.maximum(run_hi, hi2 - hi)
@@ -215,10 +223,19 @@ def _stretches(geom, layout, z, d, gap, side, k, resolution, sub_planes):
     span = np.where(hi2 > lo2, hi2 - lo2, 1.0)
     inside = band_inside(geom.d_grid, geom.U, geom.V, layout.labels, z, s, d2, lo2, span,
                          layout_zone_cells(geom, layout, z))
+    half = 0.5 / (nt - 1)
+    if geom.loops_sd is None:  # one stretch a plane: one compiled pass
+        return band_runs(inside, tau, half, *edge_runs(geom, d, up, down))
+    return _band_runs_numpy(geom, d, inside, tau, half, up, down)
+
+
+def _band_runs_numpy(geom, d, inside, tau, half, up, down):
+    """The runs of ``inside`` (P, nt) along planes d, widened by ``half`` and cut to the
+    footprint's stretches (:func:`_on_material`); on a whole footprint the numbers of
+    ``seed_kernel.band_runs``, its reference."""
     pad = np.pad(inside, ((0, 0), (1, 1)))
     starts = np.argwhere(pad[:, 1:-1] & ~pad[:, :-2])
     ends = np.argwhere(pad[:, 1:-1] & ~pad[:, 2:])
-    half = 0.5 / (nt - 1)
     ta = np.clip(tau[starts[:, 1]] - half, 0.0, 1.0)
     tb = np.clip(tau[ends[:, 1]] + half, 0.0, 1.0)
     return _on_material(geom, d, starts[:, 0], ta, tb, up, down)

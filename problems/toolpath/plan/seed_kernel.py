@@ -14,7 +14,9 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-__all__ = ["extent", "seed_uv", "band_inside", "zone_cells"]
+from ..geometry.rows import _interp_rows
+
+__all__ = ["extent", "seed_uv", "seed_feed", "newton_step", "section_points", "band_runs_max", "band_runs", "band_inside", "zone_cells"]
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
@@ -90,6 +92,173 @@ def seed_uv(g, U, V, d, tau):
         t0, ft = _tau_cell(tau[i], nt)
         u[i], v[i] = _bilinear(U, V, j0, fj, t0, ft)
     return u, v
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def seed_feed(g, U, V, s_lo, s_hi, d, tau):
+    """``PassGeometry.locate``'s start for plane points (d, tau), each (q,): the seed (u, v)
+    of :func:`seed_uv` and the feed coordinate s = lo + tau (hi - lo) of the plane's
+    extent (:func:`extent`)."""
+    q, nt = len(d), U.shape[1]
+    u, v, s = np.empty(q), np.empty(q), np.empty(q)
+    for i in range(q):
+        j0, fj = _d_cell(g, d[i])
+        t0, ft = _tau_cell(tau[i], nt)
+        u[i], v[i] = _bilinear(U, V, j0, fj, t0, ft)
+        lo = s_lo[j0] * (1 - fj) + s_lo[j0 + 1] * fj
+        hi = s_hi[j0] * (1 - fj) + s_hi[j0 + 1] * fj
+        s[i] = lo + tau[i] * (hi - lo)
+    return u, v, s
+
+
+@njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _unit_clip(x):
+    """np.clip(x, 0.0, 1.0) (NaN stays NaN)."""
+    if x < 0.0:
+        return 0.0
+    if x > 1.0:
+        return 1.0
+    return x
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def newton_step(d, s, u, v, pc, pf, a11, a12, a21, a22):
+    """One step of ``PassGeometry._newton`` from the jet's projections (the residuals' c.p,
+    f.p and the Jacobian a11 = c.su, a12 = c.sv, a21 = f.su, a22 = f.sv, each (q,), taken
+    by numpy as before): the new (u, v) and the steps (du, dv)."""
+    q = len(d)
+    un, vn, du, dv = np.empty(q), np.empty(q), np.empty(q), np.empty(q)
+    for i in range(q):
+        r1 = pc[i] - d[i]
+        r2 = pf[i] - s[i]
+        det = a11[i] * a22[i] - a12[i] * a21[i]
+        if not np.abs(det) > 1e-300:
+            det = 1e-300
+        un[i] = _unit_clip(u[i] - (a22[i] * r1 - a12[i] * r2) / det)
+        vn[i] = _unit_clip(v[i] - (a11[i] * r2 - a21[i] * r1) / det)
+        du[i], dv[i] = un[i] - u[i], vn[i] - v[i]
+    return un, vn, du, dv
+
+
+@njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _maximum(a, b):
+    """np.maximum of two floats (NaN propagates; b where they are equal)."""
+    return a if (a > b or a != a) else b
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def section_points(g, arc, tau_grid, d, ta, tb, step):
+    """The first CC points of ``points.sample_sections``: sections (d, [ta, tb], step),
+    each (S,), uniformly in arc length along their planes (``PassGeometry.arc_rows``, its
+    ``_arc_at``), ceil(L / step) segments each: (pt_sec, tau) (N,) and the segment starts
+    (every point but a section's last). The numbers of ``points.section_points_numpy``."""
+    n_sec, nt = len(d), arc.shape[1]
+    rows = np.empty((n_sec, nt))
+    nseg = np.empty(n_sec, np.int64)
+    a0, length = np.empty(n_sec), np.empty(n_sec)
+    for i in range(n_sec):
+        j0, fj = _d_cell(g, d[i])
+        for k in range(nt):
+            rows[i, k] = arc[j0, k] * (1 - fj) + arc[j0 + 1, k] * fj
+        ends = np.empty(2)
+        for e in range(2):
+            t0, w = _tau_cell(ta[i] if e == 0 else tb[i], nt)
+            ends[e] = rows[i, t0] * (1 - w) + rows[i, t0 + 1] * w
+        a0[i] = ends[0]
+        length[i] = _maximum(ends[1] - ends[0], 0.0)
+        x = np.ceil(length[i] / step[i] - 1e-9)
+        # astype(int) then np.maximum(., 1): NaN, inf and beyond int64 give INT64_MIN
+        nseg[i] = max(np.int64(x), 1) if abs(x) < 9.2e18 else 1
+    n = 0
+    for i in range(n_sec):
+        n += nseg[i] + 1
+    pt_sec, q = np.empty(n, np.int64), np.empty(n, np.int64)
+    target = np.empty(n)
+    at = 0
+    for i in range(n_sec):
+        for j in range(nseg[i] + 1):
+            pt_sec[at], q[at] = i, j
+            target[at] = a0[i] + j / nseg[i] * length[i]
+            at += 1
+    tau = _interp_rows(rows, tau_grid.reshape(1, -1), target, pt_sec, True)
+    starts = np.empty(n - n_sec, np.int64)
+    at, b = 0, 0
+    for i in range(n_sec):
+        for j in range(nseg[i] + 1):
+            if j == 0:
+                tau[at] = ta[i]
+            elif j == nseg[i]:
+                tau[at] = tb[i]
+            if j < nseg[i]:
+                starts[b] = at
+                b += 1
+            at += 1
+    return pt_sec, tau, starts
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def band_runs_max(g, s_lo, s_hi, d, up, down, fracs):
+    """``sections.edge_runs`` of planes d (q,): the largest run of the footprint past each
+    plane's ends over the sub-plane offsets f up, -f down (f in ``fracs``, in that order)."""
+    q = len(d)
+    run_lo, run_hi = np.empty(q), np.empty(q)
+    for i in range(q):
+        j0, fj = _d_cell(g, d[i])
+        lo = s_lo[j0] * (1 - fj) + s_lo[j0 + 1] * fj
+        hi = s_hi[j0] * (1 - fj) + s_hi[j0 + 1] * fj
+        rl, rh = 0.0, 0.0
+        for f in fracs:
+            for side in range(2):
+                off = f * up[i] if side == 0 else (-f) * down[i]
+                j1, f1 = _d_cell(g, d[i] + off)
+                lo2 = s_lo[j1] * (1 - f1) + s_lo[j1 + 1] * f1
+                hi2 = s_hi[j1] * (1 - f1) + s_hi[j1 + 1] * f1
+                rl, rh = _maximum(rl, lo - lo2), _maximum(rh, hi2 - hi)
+        run_lo[i], run_hi[i] = rl, rh
+    return run_lo, run_hi
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def band_runs(inside, tau, half, run_lo, run_hi):
+    """The runs of ``inside`` (P, nt) along each plane as sections of a whole (untrimmed)
+    footprint (``sections._stretches`` then ``_on_material``): (plane, tau_a, tau_b,
+    edge_lo, edge_hi, run_lo, run_hi) per run, the ends widened by ``half`` and clipped to
+    [0, 1], an end on the edge with its plane's run (``run_lo`` / ``run_hi`` (P,))."""
+    P, nt = inside.shape
+    n = 0
+    for i in range(P):
+        for t in range(nt):
+            if inside[i, t] and (t == 0 or not inside[i, t - 1]):
+                n += 1
+    plane, ta, tb = np.empty(n, np.int64), np.empty(n), np.empty(n)
+    at = 0
+    for i in range(P):
+        for t in range(nt):
+            if not inside[i, t]:
+                continue
+            if t == 0 or not inside[i, t - 1]:
+                plane[at], ta[at] = i, _unit_clip(tau[t] - half)
+            if t == nt - 1 or not inside[i, t + 1]:
+                tb[at] = _unit_clip(tau[t] + half)
+                at += 1
+    lo, hi = np.empty(n), np.empty(n)  # cut to the plane's one stretch [0, 1]
+    m = 0
+    for r in range(n):
+        lo[r] = _maximum(ta[r], 0.0)
+        hi[r] = tb[r] if (tb[r] < 1.0 or tb[r] != tb[r]) else 1.0  # np.minimum
+        m += hi[r] > lo[r]
+    out_p, out_a, out_b = np.empty(m, np.int64), np.empty(m), np.empty(m)
+    e_lo, e_hi = np.empty(m, np.bool_), np.empty(m, np.bool_)
+    r_lo, r_hi = np.empty(m), np.empty(m)
+    k = 0
+    for r in range(n):
+        if hi[r] > lo[r]:
+            out_p[k], out_a[k], out_b[k] = plane[r], lo[r], hi[r]
+            e_lo[k], e_hi[k] = 0.0 >= ta[r] - 1e-9, 1.0 <= tb[r] + 1e-9
+            r_lo[k] = run_lo[plane[r]] if e_lo[k] else 0.0
+            r_hi[k] = run_hi[plane[r]] if e_hi[k] else 0.0
+            k += 1
+    return out_p, out_a, out_b, e_lo, e_hi, r_lo, r_hi
 
 
 @njit(cache=True, nogil=True, error_model="numpy")

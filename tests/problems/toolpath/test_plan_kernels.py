@@ -1,16 +1,21 @@
 """The compiled passes of the planner's pass-plane tables and of the 3-axis cusp search give
 their numpy references' numbers bit for bit: ``PassGeometry.pass_extent`` and ``seed``
-(``plan/seed_kernel.py``), the zone-band membership of ``sections._stretches`` and
-``scallop_3axis.cusp_heights`` (``criteria/cusp_kernel.py``)."""
+(``plan/seed_kernel.py``), the start and Newton step of ``PassGeometry.locate``, the first
+CC points of ``points.sample_sections``, the zone-band membership and runs of
+``sections._stretches`` (with ``edge_runs``) and ``scallop_3axis.cusp_heights``
+(``criteria/cusp_kernel.py``)."""
 
 import numpy as np
 import pytest
 
 from evoplan.problems.toolpath.criteria.scallop_3axis import cusp_heights, cusp_heights_numpy
 from evoplan.problems.toolpath.geometry.spec import parse_surface
-from evoplan.problems.toolpath.plan.planes import PassGeometry
-from evoplan.problems.toolpath.plan.sections import _band_inside_numpy
-from evoplan.problems.toolpath.plan.seed_kernel import band_inside, zone_cells
+from evoplan.problems.toolpath.plan.planes import PassGeometry, newton_step_numpy
+from evoplan.problems.toolpath.plan.points import section_points_numpy
+from evoplan.problems.toolpath.plan.sections import (_band_inside_numpy, _band_runs_numpy,
+                                                      edge_runs, edge_runs_numpy)
+from evoplan.problems.toolpath.plan.seed_kernel import (band_inside, band_runs, newton_step,
+                                                         section_points, seed_feed, zone_cells)
 from evoplan.problems.toolpath.spec import parse_tools
 
 
@@ -96,3 +101,54 @@ def test_cusp_heights_equal_the_numpy_search_bit_for_bit():
         got = cusp_heights(cutter, w, t_z, b_z, kappa)
         assert same_bits(got, cusp_heights_numpy(cutter, w, t_z, b_z, kappa)), cutter
         assert np.isinf(got).any() and (got == 0).any()
+
+
+@pytest.mark.filterwarnings("ignore::RuntimeWarning")  # NaN queries cast to int
+def test_locate_start_and_newton_step_equal_the_numpy_forms_bit_for_bit(geom):
+    d, tau = queries(geom)
+    u, v, s = seed_feed(geom.d_grid, geom.U, geom.V, geom.s_lo, geom.s_hi, d, tau)
+    lo, hi = geom.pass_extent_numpy(d)
+    for a, b in zip((u, v, s), (*geom.seed_numpy(d, tau), lo + tau * (hi - lo))):
+        assert same_bits(a, b)
+    rng = np.random.default_rng(4)
+    q = len(d)
+    proj = [rng.normal(size=q) for _ in range(6)]
+    proj[2][:5], proj[3][:5], proj[4][:5], proj[5][:5] = 0.0, 0.0, 0.0, 0.0  # det 0
+    proj[0][5:8] = np.nan
+    uv = (rng.uniform(-0.2, 1.2, q), rng.uniform(-0.2, 1.2, q))
+    got = newton_step(d, s, *uv, *proj)
+    ref = newton_step_numpy(d, s, *uv, *proj)
+    assert all(same_bits(a, b) for a, b in zip(got, ref))
+
+
+def test_first_section_points_equal_the_numpy_form_bit_for_bit(geom):
+    rng = np.random.default_rng(6)
+    n = 300
+    d = rng.uniform(geom.d_min, geom.d_max, n)
+    ta, tb = np.sort(rng.uniform(-0.05, 1.05, (2, n)), axis=0)
+    ta[:20], tb[:20] = 0.0, 1.0
+    tb[20:30] = ta[20:30]  # empty stretches: one segment
+    step = rng.uniform(0.3, 12.0, n)
+    got = section_points(geom.d_grid, geom.arc, geom.tau_grid, d, ta, tb, step)
+    ref = section_points_numpy(geom, d, ta, tb, step)
+    assert np.array_equal(got[0], ref[0]) and np.array_equal(got[2], ref[2])
+    assert same_bits(got[1], ref[1])
+
+
+def test_band_runs_equal_the_numpy_forms_on_a_whole_footprint(geom):
+    rng = np.random.default_rng(8)
+    P, nt = 60, 120
+    d = np.linspace(geom.d_min, geom.d_max, P)
+    up, down = rng.uniform(0.0, 3.0, P), rng.uniform(0.0, 3.0, P)
+    up[:5], down[-5:] = 0.0, 0.0
+    for a, b in zip(edge_runs(geom, d, up, down), edge_runs_numpy(geom, d, up, down)):
+        assert same_bits(a, b)
+    inside = rng.random((P, nt)) < 0.6
+    inside[0], inside[1] = True, False
+    tau = np.linspace(0.0, 1.0, nt)
+    half = 0.5 / (nt - 1)
+    got = band_runs(inside, tau, half, *edge_runs(geom, d, up, down))
+    ref = _band_runs_numpy(geom, d, inside, tau, half, up, down)
+    assert len(got[0]) > P
+    for a, b in zip(got, ref):
+        assert a.dtype == b.dtype and (same_bits(a, b) if a.dtype == float else np.array_equal(a, b))
