@@ -134,12 +134,13 @@ def _pose_depths(p, nrm, tangent, axis, tips, su, sv, suu, suv, svv, tool, rho, 
         for q in range(n_rings[c]):
             r0, h0 = rho[c, q], hgt[c, q]
             x0, y0, z0 = rt + h0 * at, rb + h0 * ab, rn + h0 * an
-            jmax = 0
-            for j in range(n_angles):
+            for j in range(n_angles):  # no branch: the angles run as one vector loop
                 x = x0 + r0 * (cs[j] * e1t + sn[j] * e2t)
                 y = y0 + r0 * (cs[j] * e1b + sn[j] * e2b)
                 z = z0 + r0 * (cs[j] * e1n + sn[j] * e2n)
                 d[j] = 0.5 * (ktt * x * x + 2.0 * ktb * x * y + kbb * y * y) - z
+            jmax = 0
+            for j in range(1, n_angles):
                 if d[j] > d[jmax]:
                     jmax = j
             dm, d0, dp = d[(jmax - 1) % n_angles], d[jmax], d[(jmax + 1) % n_angles]
