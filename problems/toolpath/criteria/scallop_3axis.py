@@ -58,6 +58,7 @@ class WidthTable:
         self.table = (cutter.swept_side_width(h, tt[..., None], bb[..., None])
                       + cutter.swept_side_width(h, tt[..., None], -bb[..., None]))
         self.table = np.maximum.accumulate(self.table, axis=2)  # round-off: W rises with h
+        self.ordered = not np.isnan(self.table).any()  # so W rises with h at every point
 
     def widths(self, t_z, beta) -> np.ndarray:
         """(N, n_h) W at every h level, bilinear in the angles."""
@@ -89,7 +90,8 @@ def cusp_heights(cutter, w, t_z, b_z, kappa) -> np.ndarray:
     j = np.minimum(fj.astype(int), tab.n_b - 2)
     c = np.ascontiguousarray
     return cusp_search(tab.table, tab.h, c(i.ravel()), c(j.ravel()), c((fi - i).ravel()),
-                       c((fj - j).ravel()), c(kappa.ravel()), c(w.ravel())).reshape(w.shape)
+                       c((fj - j).ravel()), c(kappa.ravel()), c(w.ravel()),
+                       tab.ordered).reshape(w.shape)
 
 
 def cusp_heights_numpy(cutter, w, t_z, b_z, kappa) -> np.ndarray:
