@@ -340,6 +340,25 @@ def test_side_widths_are_the_exact_profile_and_the_two_circle_closed_form():
     assert np.allclose(ball, half, rtol=2e-3), (ball, half)
 
 
+def test_compiled_side_widths_are_the_numpy_bisection_to_round_off():
+    from evoplan.problems.toolpath.cutters import make_cutter
+    from evoplan.problems.toolpath.plan.zoning.profile import SideTable
+
+    rng = np.random.default_rng(5)
+    n = 3000
+    tz, beta = rng.uniform(0, 1, n) ** 2, rng.uniform(-1.6, 1.6, n)
+    kappa = rng.uniform(-0.3, 0.3, n)
+    beta[:300] = rng.uniform(-0.01, 0.01, 300)  # between the innermost beta nodes
+    tz[:100] = 0.0
+    for D, r in ((6.35, 1.0), (6.35, 3.175), (10.0, 0.0)):
+        table = SideTable(make_cutter(D, r), H_C)
+        got = table.width(tz.reshape(30, 100), beta.reshape(30, 100), kappa.reshape(30, 100))
+        ref = table.width_numpy(tz, beta, kappa)
+        assert got.shape == (30, 100)
+        assert np.max(np.abs(got.ravel() - ref)) <= 4 * np.finfo(float).eps * np.max(ref)
+        assert np.mean(got.ravel() == ref) > 0.99
+
+
 def test_contour_spiral_link_is_one_continuous_section_through_the_nested_loops():
     surface, tools = parse_surface("choi"), parse_tools(BALL)
     plans = {}

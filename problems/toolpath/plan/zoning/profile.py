@@ -157,6 +157,18 @@ class SideTable:
         return x
 
     def width(self, t_z, beta, kappa, iterations: int = 30) -> np.ndarray:
+        """:meth:`width_numpy` in one compiled pass (``side_kernel.side_widths``: the same
+        numbers to round-off, tested)."""
+        from .side_kernel import side_widths
+
+        t_z, beta, kappa = np.broadcast_arrays(*(np.asarray(x, float) for x in
+                                                 (t_z, beta, kappa)))
+        out = side_widths(self.table, self.h, self.h_top, self.beta_0,
+                          np.ascontiguousarray(t_z.ravel()), np.ascontiguousarray(beta.ravel()),
+                          np.ascontiguousarray(kappa.ravel()), iterations)
+        return out.reshape(t_z.shape)
+
+    def width_numpy(self, t_z, beta, kappa, iterations: int = 30) -> np.ndarray:
         """Half-width (mm, along the surface across the feed) where the cusp is h_c on the
         +b side of a contact with feed |t_z|, section slope beta (signed, the +b side)
         and curvature kappa across the feed, as an arc on the surface; heights past ``h_top`` (a concave section
