@@ -108,3 +108,25 @@ def test_normal_curvature_obeys_euler_between_the_principal_values():
     n = s.normals(u, v)
     L = np.einsum("ij,ij->i", j.suu, n) / np.einsum("ij,ij->i", j.su, j.su)
     np.testing.assert_allclose(s.normal_curvature(u, v, j.su), L, rtol=1e-9)
+
+
+def test_unit_normal_is_numpys_cross_and_norm_bit_for_bit():
+    from types import SimpleNamespace
+
+    from evoplan.problems.toolpath.geometry.surface import unit_normal
+
+    rng = np.random.default_rng(11)
+    for shape in ((1, 3), (257, 3), (4, 5, 3)):
+        su, sv = rng.normal(size=shape), rng.normal(size=shape)
+        for sign in (1.0, -1.0):
+            ref = np.cross(su, sv) * sign
+            ref = ref / np.linalg.norm(ref, axis=-1, keepdims=True)
+            got = unit_normal(SimpleNamespace(su=su, sv=sv), sign)
+            assert got.shape == ref.shape and np.array_equal(got, ref)
+    # a real surface's jets, Choi's, on its whole parameter square
+    surface = choi_surface()
+    u, v = rng.uniform(0, 1, (2, 500))
+    jet = surface.jet(u, v, order=1)
+    ref = np.cross(jet.su, jet.sv) * surface.normal_sign
+    assert np.array_equal(unit_normal(jet, surface.normal_sign),
+                          ref / np.linalg.norm(ref, axis=-1, keepdims=True))
