@@ -103,12 +103,20 @@ def cusp_heights(surface, cutter, uv, nxt, b, w, samples: int = 9, reach: int = 
     envs = []
     for pts in (uv, nxt):
         j = surface.jet(pts[:, 0], pts[:, 1], order=1)
-        tips = cutter.cc_to_tip(j.p, unit_normal(j, surface.normal_sign))
-        envs.append(tips[k])  # (M, K, 3)
+        n = unit_normal(j, surface.normal_sign)
+        if pts is uv:
+            js, ns = j, n  # where the walk starts
+        envs.append(cutter.cc_to_tip(j.p, n)[k])  # (M, K, 3)
     gap = np.full(m, -np.inf)
     s_uv, d = uv, b
-    for _ in range(samples):  # one midpoint step from sample to sample
-        s_uv, d = march(surface, s_uv, d, w / (samples + 1), substeps=1, carried=True)
+    h = (np.asarray(w / (samples + 1), float))[:, None]
+    for _ in range(samples):  # one midpoint step from sample to sample (``march``, one
+        # substep), the jet at each sample serving both its check and the next step
+        k1, d = _velocity(js, ns, d)
+        x = s_uv + 0.5 * h * k1
+        jm = surface.jet(x[:, 0], x[:, 1], order=1)
+        k2, d = _velocity(jm, unit_normal(jm, surface.normal_sign), d)
+        s_uv = s_uv + h * k2
         js = surface.jet(s_uv[:, 0], s_uv[:, 1], order=1)
         ns = unit_normal(js, surface.normal_sign)
         low = np.full(m, np.inf)
@@ -117,6 +125,18 @@ def cusp_heights(surface, cutter, uv, nxt, b, w, samples: int = 9, reach: int = 
             low = np.minimum(low, np.min(tips[:, :, 2] + cutter.height(rho), axis=1))
         gap = np.maximum(gap, (low - js.p[:, 2]) * np.abs(ns[:, 2]))
     return gap
+
+
+def _velocity(j, n, d):
+    """The (u, v) rate of a unit-speed walk along the tangent direction d (M, 3) at the
+    jet j with unit normal n, and d projected onto the tangent plane there (unit)."""
+    d = d - np.einsum("ij,ij->i", d, n)[:, None] * n
+    d /= np.maximum(np.linalg.norm(d, axis=1, keepdims=True), 1e-300)
+    E, F, G = (np.einsum("ij,ij->i", a, b) for a, b in ((j.su, j.su), (j.su, j.sv),
+                                                       (j.sv, j.sv)))
+    r1, r2 = np.einsum("ij,ij->i", j.su, d), np.einsum("ij,ij->i", j.sv, d)
+    det = E * G - F * F
+    return np.column_stack([(G * r1 - F * r2) / det, (E * r2 - F * r1) / det]), d
 
 
 def march(surface, uv, direction, dist, substeps: int = 2, carried: bool = False):
@@ -129,14 +149,7 @@ def march(surface, uv, direction, dist, substeps: int = 2, carried: bool = False
 
     def velocity(x, d):
         j = surface.jet(x[:, 0], x[:, 1], order=1)
-        n = unit_normal(j, surface.normal_sign)
-        d = d - np.einsum("ij,ij->i", d, n)[:, None] * n
-        d /= np.maximum(np.linalg.norm(d, axis=1, keepdims=True), 1e-300)
-        E, F, G = (np.einsum("ij,ij->i", a, b) for a, b in ((j.su, j.su), (j.su, j.sv),
-                                                           (j.sv, j.sv)))
-        r1, r2 = np.einsum("ij,ij->i", j.su, d), np.einsum("ij,ij->i", j.sv, d)
-        det = E * G - F * F
-        return np.column_stack([(G * r1 - F * r2) / det, (E * r2 - F * r1) / det]), d
+        return _velocity(j, unit_normal(j, surface.normal_sign), d)
 
     x = uv.copy()
     d = direction.copy()
