@@ -33,6 +33,8 @@ nearest the axis; -inf when nothing is touched.
 
 from __future__ import annotations
 
+from itertools import chain
+
 import numpy as np
 
 from .drop_rim import edge_candidates, group_argmax, rim_candidates
@@ -121,7 +123,7 @@ def _seeds(cutter, grid, xy):
     k = len(xy)
     if counts.sum() == 0:
         return np.full((k, 5), -1)
-    idx = np.concatenate([np.asarray(x, np.int64) for x in lists])
+    idx = np.fromiter(chain.from_iterable(lists), np.int64, int(counts.sum()))
     q = np.repeat(np.arange(k), counts)
     d = grid.xy[idx] - xy[q]
     s = 0.5 * np.einsum("ij,ij->i", d, d)
