@@ -19,7 +19,12 @@ position of its lower surface above any point beside the contact comes before th
 reaches the edge). Measured on Choi's surface (torus r 1, h_c 0.254 mm, 0.05 mm grid, the
 AMAS plan): without it the edge column, where a zone's passes end on the part's edge with
 the surface falling towards it along and across the feed, rose to 0.307 mm against
-<= 0.28 mm inside (run-ons of 0.1-2 mm all brought it down). A 3-axis tool keeps its height from the drop-cutter (it touches the
+<= 0.28 mm inside (run-ons of 0.1-2 mm all brought it down). There the wedge runs on past
+that (the two add up: rho only brings the centre abeam of the end CC point, the band's
+material along the oblique edge lies further on): with the larger of the two alone, the
+single-zone plan of Choi's surface (torus r 1, feed 11.5 deg) left 0.336 mm (0.1 mm grid)
+at the corner (50.8, 76.2), where a pass ends on the top edge 1.5 mm short of the corner
+with its tool 1.9 mm downhill across the feed, held up by the edge it touches. A 3-axis tool keeps its height from the drop-cutter (it touches the
 part's edge and nowhere penetrates it); a 5-axis tool runs on along the travel tangent with
 the end point's axis.
 
@@ -44,10 +49,10 @@ def edge_overrun(points: dict, sec_start, sec_count, at_head, at_tail, head_leng
     the first / last CC point the tool's centre goes; ``ahead`` (N,): how far along the
     travel the tool's centre already is from each CC point (a vertical cutter tangent on a
     slope sits downhill of its contact), so only the rest is added; ``reach`` (N,) mm,
-    optional: how far past an end CC point the centre goes at least where the surface falls
-    towards that end (the centre already past it). Returns (points with the new rows,
-    sec_start, sec_count, on_part (N',), shift (N', 3) the offset of each row from the
-    point it repeats, (seg_sec, seg_len) of the added moves)."""
+    optional: how far past an end CC point the centre goes, beyond the wedge, where the
+    surface falls towards that end (the centre already past it). Returns (points with the
+    new rows, sec_start, sec_count, on_part (N',), shift (N', 3) the offset of each row from
+    the point it repeats, (seg_sec, seg_len) of the added moves)."""
     sec_start, sec_count = np.asarray(sec_start), np.asarray(sec_count)
     first, last = sec_start, sec_start + sec_count - 1
     ahead = np.asarray(ahead, float)
@@ -55,8 +60,10 @@ def edge_overrun(points: dict, sec_start, sec_count, at_head, at_tail, head_leng
     if reach is not None:  # where the surface falls towards the end: the tool's centre
         # is past the end CC point already (ahead of it along the travel towards the edge)
         reach = np.asarray(reach, float)
-        head_length = np.maximum(head_length, np.where(ahead[first] < 0, reach[first], 0.0))
-        tail_length = np.maximum(tail_length, np.where(ahead[last] > 0, reach[last], 0.0))
+        # rho past the end brings the centre abeam of the end CC point; the wedge of the
+        # band lies beyond that, so the two add up
+        head_length = head_length + np.where(ahead[first] < 0, reach[first], 0.0)
+        tail_length = tail_length + np.where(ahead[last] > 0, reach[last], 0.0)
     # how far the tool's centre still has to go past each end (0: it is already there)
     reach_head = np.maximum(head_length + ahead[first], 0.0)
     reach_tail = np.maximum(tail_length - ahead[last], 0.0)

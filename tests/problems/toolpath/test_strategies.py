@@ -83,7 +83,8 @@ TORUS = [{"id": 2, "type": "toroidal", "diameter": 6.35, "corner_radius": 1.0}]
 
 
 @pytest.mark.parametrize("strategy, tool", [("isoscallop", BALL), ("isoparametric", BALL),
-                                            ("isoscallop", TORUS), ("isoparametric", TORUS)])
+                                            ("isoscallop", TORUS), ("isoparametric", TORUS),
+                                            ("parallel", TORUS)])
 def test_plans_of_choi_meet_h_c_on_the_verdict_grid(strategy, tool, choi_fine):
     from evoplan.problems.toolpath.simulation.metrics import meets_h_c
 
