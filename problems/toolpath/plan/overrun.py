@@ -19,13 +19,13 @@ position of its lower surface above any point beside the contact comes before th
 reaches the edge). Measured on Choi's surface (torus r 1, h_c 0.254 mm, 0.05 mm grid, the
 AMAS plan): without it the edge column, where a zone's passes end on the part's edge with
 the surface falling towards it along and across the feed, rose to 0.307 mm against
-<= 0.28 mm inside (run-ons of 0.1-2 mm all brought it down). There the wedge runs on past
-that (the two add up: rho only brings the centre abeam of the end CC point, the band's
-material along the oblique edge lies further on): with the larger of the two alone, the
-single-zone plan of Choi's surface (torus r 1, feed 11.5 deg) left 0.336 mm (0.1 mm grid)
-at the corner (50.8, 76.2), where a pass ends on the top edge 1.5 mm short of the corner
-with its tool 1.9 mm downhill across the feed, held up by the edge it touches. A 3-axis tool keeps its height from the drop-cutter (it touches the
-part's edge and nowhere penetrates it); a 5-axis tool runs on along the travel tangent with
+<= 0.28 mm inside (run-ons of 0.1-2 mm all brought it down). The wedge is added to that
+reach, not compared with it: rho only brings the centre abeam of the end CC point, and the
+band's material along an oblique edge lies further on. With the larger of the two alone,
+the single-zone plan of Choi's surface (torus r 1, feed 11.5 deg) left 0.336 mm (0.1 mm
+grid) at the corner (50.8, 76.2), where a pass ends on the top edge 1.5 mm short of the
+corner with its tool 1.9 mm downhill across the feed. A 3-axis tool keeps its height from
+the drop-cutter (it touches the part's edge and nowhere penetrates it); a 5-axis tool runs on along the travel tangent with
 the end point's axis.
 
 The extra points hold no CC point (``on_part`` False): their CC fields repeat the end
