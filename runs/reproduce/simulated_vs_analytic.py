@@ -93,11 +93,11 @@ READING = """## Reading the tables (figures of the 0.1 mm run committed with thi
   points on convex stretches (about 0.01 mm here), which the model does not see.
 - **Zoned plans on Choi's surface** (3-axis, drop-cutter placement, passes spaced for h_c,
   zoned planes cut across their band, runs past the edges) keep the simulated p99 under
-  h_c = 0.254 mm (0.204-0.240) with under 0.05 % of the area above it. The ball, K-means and
-  AMAS plans' maxima (0.249-0.274 mm) are within 1.1 h_c; the single-zone torus plan leaves
-  0.336 mm at the part's far corner (``choi_strategies.md``). Nothing is uncut, the gouge stays
-  under the 0.01 mm chord tolerance, and the length a plan claims is the length of its cut
-  sections.
+  h_c = 0.254 mm (0.204-0.240) with under 0.05 % of the area above it. All four plans' maxima
+  (0.249-0.274 mm) are within 1.1 h_c; the single-zone torus plan's 0.336 mm at the part's far
+  corner became 0.254 mm with the edge run-on of 0560fe8 (``choi_strategies.md``). Nothing is
+  uncut, the gouge stays under the 0.01 mm chord tolerance, and the length a plan claims is the
+  length of its cut sections.
 - **What the optimizer should use.** The cheap model ranks random plans on Fountas' surface
   like the simulation: scallop max rho 0.90, scallop mean 0.94, gouge 1.00, machining error
   0.95, Eq. 9's objective 0.97 (before the pose gouge: 0.60 and 0.63 for the last two). It
