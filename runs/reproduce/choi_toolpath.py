@@ -55,19 +55,20 @@ READING = """## Reading
   inside the part's edge, which tells zone borders and the inside from the edge row.
 - Target: NOT met. No plan that really keeps the scallop under h_c comes near Djebali's
   1183 mm. The shortest zoned toroidal plan that meets h_c (the line under the main table)
-  is about 6 % shorter than the single-zone ball and 13 % shorter than the single-zone torus
+  is about 6 % shorter than the single-zone ball and 14 % shorter than the single-zone torus
   of this engine. Counted as the papers count (on the part, plus Eq. 4's 40 mm a zone),
   it is 1468 mm, 2 % over Herraz's 1437 mm.
-- Every zoned plan meets h_c on this grid; more than 1 mm inside the part's edge (*max > 1
-  mm in*) the zoned tori leave 0.241-0.266 mm, within 1.1 h_c. The plans that fail are the
-  single-zone torus r 1 (0.289 mm) and the flat end mill (0.331 mm), both only within 1 mm
-  of the edge (inside, 0.252 and 0.253 mm). No plan gouges more than 0.005 mm (the chord
-  tolerance is 0.01 mm); the uncut share rounds to 0.00 % everywhere.
+- Every plan meets h_c on this grid; more than 1 mm inside the part's edge (*max > 1
+  mm in*) the zoned tori leave 0.241-0.266 mm, within 1.1 h_c. The single-zone torus r 1
+  and the flat end mill, which failed at the edge (0.289 and 0.331 mm) before the edge
+  run-on became the wedge plus rho (0560fe8), leave 0.252 and 0.253 mm, no more at the
+  edge than inside. No plan gouges more than 0.005 mm (the chord tolerance is 0.01 mm);
+  the uncut share rounds to 0.00 % everywhere.
 - Where the length goes (second table): the worst-point rule of parallel planes (each plane
   as far from the previous one as its pass's WORST point allows) costs 26-31 % over the
   local-spacing floor, in every zone alike. Cutting each plane wherever its band (the strip
   to its two neighbours) holds zone material changes the binned plan by -1 to +10 %. The
-  edge runs add 127-255 mm and Eq. 4 adds 40 mm a zone. With three zones the floor alone is
+  edge runs add 127-265 mm and Eq. 4 adds 40 mm a zone. With three zones the floor alone is
   1007-1020 + 80 mm, already close to 1183 mm. So a zoned parallel-plane plan that really
   meets h_c cannot reach 1183 mm on this surface: the gap is in the pass rule (one spacing
   along a whole pass), not in the zones. The direction search minimizes the binned length,
@@ -75,11 +76,11 @@ READING = """## Reading
   sixth column, a 7.5 deg grid) saves 2-15 mm (0.2-1.1 %) of the on-part length.
 - Levers (third table): planning at 5 % over h_c still meets h_c on every plan (simulated
   max 0.258-0.264 mm) and saves 21-33 mm of Eq. 4 (1.3-2.0 %); at 10 % over, K-means K=5
-  fails (0.280 mm) and AMAS k_LZ=0.05 gets longer (1664 mm: its runs past the edge grow
-  from 134 to 213 mm). None comes near 1183 mm (the shortest, K-means K=2 at h_c x 1.1, is
+  fails (0.280 mm) and AMAS k_LZ=0.05 gets longer (1667 mm: its runs past the edge grow
+  from 134 to 216 mm). None comes near 1183 mm (the shortest, K-means K=2 at h_c x 1.1, is
   1554 mm). Merging up to 20 % of the area keeps K-means K=2's three zones; it leaves K=5
-  and AMAS two zones, longer (1675-1686 mm) and failing (0.294-0.299 mm). Without merging,
-  K-means K=5 and AMAS split into 17-161 zones.
+  and AMAS two zones, longer (1707-1726 mm) though within h_c (0.252-0.256 mm). Without
+  merging, K-means K=5 and AMAS split into 17-161 zones.
 """
 
 
