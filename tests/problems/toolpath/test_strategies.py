@@ -274,6 +274,30 @@ def test_isoscallop_on_a_cylinder_spaces_a_ball_by_the_circle_intersection_close
     assert np.allclose(ratio, ratio[::-1], rtol=1e-9)  # symmetric about the crest
 
 
+def test_contour_cuts_the_middle_of_every_zone():
+    """The last loop of a zone can lie farther from the zone's middle than one step (K-means
+    K = 4 on Choi's surface: 1.54 mm, a 0.36 mm scallop there); the deepest offset, where the
+    zone vanishes, is a pass too, so the zone's pole of inaccessibility lies on a pass."""
+    from shapely.ops import polylabel
+
+    from evoplan.problems.toolpath.plan.strategies.contour import contour_loops, zone_polygon
+    from evoplan.problems.toolpath.plan.zones import ZoningSpec
+    from evoplan.problems.toolpath.tools import CHOI_TOOLS
+
+    surface, tools = parse_surface("choi"), parse_tools(CHOI_TOOLS)
+    pl = Planner(surface, tools, machine="3axis", zoning=ZoningSpec("kmeans"), spacing="scallop",
+                 h_c=H_C, feed_angle=None, strategy="contour")
+    layout = pl.layouts.get(4, 1)
+    for z in range(int(layout.labels.max()) + 1):
+        loops = contour_loops(pl, layout, z, tools.cutter(1), H_C)
+        uv = np.concatenate([pc.uv for pieces in loops for pc in pieces])
+        xy = surface.jet(uv[:, 0], uv[:, 1], order=0).p[:, :2]
+        middle = polylabel(zone_polygon(surface, layout.labels, z), tolerance=0.01)
+        gap = np.min(np.linalg.norm(xy - [middle.x, middle.y], axis=1))
+        assert gap < 0.5, (z, gap)
+        assert np.all(loops[-1][0].gap == 0.0)  # the spine: no scallop measured against it
+
+
 def test_contour_loops_are_nested_and_never_cross():
     import shapely
 

@@ -2,20 +2,22 @@
 
 The zone's footprint in XY (the whole part: the image of its boundary loops; a zone: the
 union of its mesh cells, mapped to XY; on a trimmed face either is cut to the face's
-footprint, its holes included) is offset inwards by shapely (GEOS buffers: exact in
-floating point, nested by construction, an offset that pinches splits into several loops
-and one that vanishes is empty; pyclipr would be faster but works on integer coordinates,
-and shapely is already the project's polygon library). The first loop is the boundary
-itself; the next offset distance is as far from the current loop as its WORST point allows
-(the cross-feed width that leaves h_c, ``offsets.cross_width``, times the horizontal part
-of the inward cross-feed), until nothing is left. Each loop is one section, closed, its
-start moved to the point nearest the previous loop's end (short links). CC points lie on
-the surface above the loops (the XY offsets mapped back to (u, v)). Around a hole the
-loops are the offsets of its boundary, outwards into the material. ``link: spiral`` cuts
-every run of offsets that stay one loop as one spiral (:func:`spiral`) instead of closed
-loops linked across. ``corners`` (default true): after the loops, a pass along the bisector
-of every convex corner from one loop to the next (:func:`corner_segments`: nested offsets
-keep sharp corners, step / sin(theta / 2) apart).
+footprint, its holes included) is offset inwards by shapely (GEOS buffers: exact in floating
+point, nested by construction, an offset that pinches splits into several loops and one that
+vanishes is empty; pyclipr would be faster but works on integer coordinates, and shapely is
+already the project's polygon library). The first loop is the boundary itself; the next
+offset distance is as far from the current loop as its WORST point allows (the cross-feed
+width that leaves h_c, ``offsets.cross_width``, times the horizontal part of the inward
+cross-feed), until nothing is left; each part of the offsets ends on its spine (the deepest
+offset where that part vanishes, a point or a sliver along its medial axis, cut as a loop
+with no scallop measured against it). Each loop is one section, closed, its start moved to
+the point nearest the previous loop's end (short links). CC points lie on the surface above
+the loops (the XY offsets mapped back to (u, v)). Around a hole the loops are the offsets of
+its boundary, outwards into the material. ``link: spiral`` cuts every run of offsets that
+stay one loop as one spiral (:func:`spiral`) instead of closed loops linked across.
+``corners`` (default true): after the loops, a pass along the bisector of every convex
+corner from one loop to the next (:func:`corner_segments`: nested offsets keep sharp
+corners, step / sin(theta / 2) apart).
 """
 
 from __future__ import annotations
@@ -128,36 +130,36 @@ def corner_segments(rings, steps, ds: float = 0.5, region=None):
     return out
 
 
+def _polygons(region, degenerate: bool = False) -> list:
+    """The polygons of an offset region; ``degenerate``: also those of (nearly) no area (an
+    offset at the distance where it vanishes is a point or a sliver along the medial axis)."""
+    return [g for g in getattr(region, "geoms", [region])
+            if g.geom_type == "Polygon" and not g.is_empty and (degenerate or g.area > 1e-9)]
+
+
 def contour_loops(planner, layout, z, cutter, h_c, lead_tilt=None, ds=0.5, max_loops=2000,
                   corners=None):
     """[[Piece]] per offset distance (outside in) of zone z. ``corners``: a list that
     receives the corner passes (:func:`corner_segments`) as pieces (gap 0: no scallop
-    measured against them)."""
+    measured against them).
+
+    Every part of the offsets gets a spine: where a part vanishes before the next offset
+    distance (the whole zone at the end, or one part of an offset that split, earlier), the
+    deepest offset of that part (a point or a sliver along its medial axis) is cut too, so
+    the middle between its last loop and its spine is not left standing."""
     import shapely
 
     surface = planner.surface
     geom = planner.geometry(0.0)
     poly = zone_polygon(surface, layout.labels, z)
-    out, dist, end, prev, spine = [], 0.0, None, None, False
+    out, dist, prev = [], 0.0, None
     all_rings, all_steps = [], []
-    for k in range(max_loops):
-        region = poly if dist == 0 else poly.buffer(-dist)
-        if region.is_empty and prev is not None and not spine:
-            # nothing left at the next distance: the last loop is the deepest non-empty
-            # offset (the zone's spine), so the middle between the previous loop and it
-            # is cut too
-            lo, hi = prev, dist
-            for _ in range(20):
-                mid = 0.5 * (lo + hi)
-                lo, hi = (mid, hi) if not poly.buffer(-mid).is_empty else (lo, mid)
-            spine, dist = True, lo
-            region = poly.buffer(-dist)
-        if region.is_empty:
-            break
-        polys = [g for g in getattr(region, "geoms", [region])
-                 if g.geom_type == "Polygon" and g.area > 1e-9]
-        # outer boundaries counter-clockwise, holes clockwise: the material on the left
-        rings = [(g.exterior, True) for g in polys] + [(h, False) for g in polys for h in g.interiors]
+    state = {"end": None}
+    last_parts: list = []
+
+    def pieces_of(rings, gap):
+        """(pieces, steps) of closed rings: each its (u, v) above the XY ring, the inward
+        cross-feed, and the step to the next offset its worst point allows."""
         pieces, steps = [], []
         for ring, outer in rings:
             xy = np.asarray(shapely.segmentize(ring, ds).coords)[:-1]
@@ -165,8 +167,8 @@ def contour_loops(planner, layout, z, cutter, h_c, lead_tilt=None, ds=0.5, max_l
                 continue
             if shapely.LinearRing(xy).is_ccw is not outer:
                 xy = xy[::-1]
-            if end is not None:  # start where the previous loop ended
-                xy = np.roll(xy, -int(np.argmin(np.linalg.norm(xy - end, axis=1))), axis=0)
+            if state["end"] is not None:  # start where the previous loop ended
+                xy = np.roll(xy, -int(np.argmin(np.linalg.norm(xy - state["end"], axis=1))), axis=0)
             xy = np.vstack([xy, xy[:1]])
             uv = _to_uv(geom, xy)
             jet, n, t, b = pass_frame(surface, uv)
@@ -178,17 +180,63 @@ def contour_loops(planner, layout, z, cutter, h_c, lead_tilt=None, ds=0.5, max_l
             horiz = np.abs(np.sum(b[:, :2] * inward, axis=1))
             steps.append(float(np.min(w * horiz)))
             cross = np.column_stack([inward, np.zeros(len(xy))])
-            pieces.append((uv, cross))
-            end = xy[-1]
+            pieces.append(Piece(uv, cross, np.full(len(uv), gap), z, len(out), layout.alpha[z]))
+            state["end"] = xy[-1]
+        return pieces, steps
+
+    def deepest(part, whole):
+        """The zone's offset at the largest distance in [prev, dist) where ``part`` (one
+        polygon of the offset at prev) still has material (bisection); ``whole``: the part is
+        all that is left of the zone."""
+        def left(m):
+            region = poly.buffer(-m)
+            return region if whole else region.intersection(part)
+
+        lo, hi = prev, dist
+        for _ in range(20):
+            mid = 0.5 * (lo + hi)
+            lo, hi = (mid, hi) if not left(mid).is_empty else (lo, mid)
+        return left(lo)
+
+    def rings_of(polys):
+        # outer boundaries counter-clockwise, holes clockwise: the material on the left
+        return [(g.exterior, True) for g in polys] + [(h, False) for g in polys for h in g.interiors]
+
+    for _ in range(max_loops):
+        region = poly if dist == 0 else poly.buffer(-dist)
+        spine = region.is_empty and prev is not None
+        if spine:  # nothing left at the next distance: the zone's last spines, then stop
+            lost = last_parts
+        else:
+            if region.is_empty:
+                break
+            lost = [g for g in last_parts if not region.intersects(g)]
+        spines, spine_rings, spine_steps = [], [], []
+        for part in lost:  # parts gone before this distance: each one's deepest offset
+            deep_rings = rings_of(_polygons(deepest(part, spine and len(lost) == 1), degenerate=True))
+            pieces, steps = pieces_of(deep_rings, 0.0)
+            spines += pieces
+            spine_rings += deep_rings
+            spine_steps += steps
+        if spines:
+            out.append(spines)
+        if spine:
+            if spines:  # the corner passes of the last loops run to the spines
+                all_rings.append(spine_rings)
+                all_steps.append(max(min(spine_steps), 1e-3))
+            break
+        polys = _polygons(region)
+        rings = rings_of(polys)
+        pieces, steps = pieces_of(rings, 0.0)
         if not pieces:
             break
         step = max(min(steps), 1e-3)
+        for pc in pieces:  # a loop's gap: the step to the next offset
+            pc.gap[:] = step
         all_rings.append(rings)
         all_steps.append(step)
-        out.append([Piece(uv, cross, np.full(len(uv), 0.0 if spine else step), z, k,
-                          layout.alpha[z]) for uv, cross in pieces])
-        if spine:
-            break
+        out.append(pieces)
+        last_parts = polys
         prev, dist = dist, dist + step
     if corners is not None:
         for k, xy in corner_segments(all_rings, all_steps, ds, region=poly):
