@@ -314,17 +314,17 @@ def main() -> None:
 
 READING = """## Reading (the committed run above)
 
-- **Time.** The 20 runs took 181 s on the processes backend (2 workers) while other jobs kept
-  the 2-core box at a load of about 4: a median of 18 s per GA run and 9 s per VEGA run.
-  Report and simulation of the two best plans: about 10 s. Whole script from scratch: about
-  3.5 minutes.
-- **Equal budget.** Both algorithms were charged about 501 distinct evaluations (a
+- **Time.** The 20 runs took 90 s on the serial backend (one process) while another job
+  shared the 2-core box (load about 1.2): a median of 4.0 s per GA run and 3.3 s per VEGA
+  run. Report and simulation of the two best plans: about 8 s. Whole script from scratch:
+  about 100 s.
+- **Equal budget.** Both algorithms were charged about 502 distinct evaluations (a
   generation is never cut; each run is credited with its best among its first 500). The GA
-  needed 98 generations for them, VEGA 65: its infections are evaluations too.
+  needed 98 generations for them, VEGA 70.5: its infections are evaluations too.
 - **VEGA against the GA.** VEGA's median is barely lower (0.20676 against 0.20684) and its
-  spread smaller (IQR 0.00066 against 0.00093; worst run 0.21030 against 0.21059), but at 10
-  seeds there is no difference to speak of: Wilcoxon p = 0.85 (rank-biserial -0.09),
-  Mann-Whitney p = 0.97. The GA found the single best plan (0.20556 against VEGA's 0.20583). In plan terms
+  spread smaller (IQR 0.00066 against 0.00093; worst run 0.20770 against 0.21059), but at 10
+  seeds there is no difference to speak of: Wilcoxon p = 0.65 (rank-biserial -0.2),
+  Mann-Whitney p = 0.88. The GA found the single best plan (0.20556 against VEGA's 0.20583). In plan terms
   the differences are small: 0.001 of this Eq. 9 is about 8 mm of Eq. 4 length
   (0.45 / 3800 mm) or 0.002 mm of scallop (0.45 / 1 mm).
 - **What the optimum is.** Every run's best is the ball, a step-over of 32-39 % of D (XY
