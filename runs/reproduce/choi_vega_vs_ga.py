@@ -352,12 +352,11 @@ READING = """## Reading (the committed run above)
 
 STRATEGIES_READING = """## Reading (the committed run above)
 
-- **Time.** The 20 runs took 326 s on the processes backend (2 workers) while two other
-  jobs shared the 2-core box (load about 3-4); the simulation of the two best plans on the
-  three grids, 104 s in the first invocation (55 s in the one that wrote this file,
-  the runs reused).
-- **Equal budget.** Both were charged 240-242 distinct evaluations; the GA needed 44
-  generations for them, VEGA 25.5 (its infections are evaluations too).
+- **Time.** The 20 runs took 50 s on the serial backend (one process) while another job
+  shared the 2-core box (load about 1.3); the simulation of the two best plans on the
+  three grids, 14 s. Whole script from scratch: about 70 s.
+- **Equal budget.** Both were charged 241-242 distinct evaluations (medians); the GA
+  needed 44 generations for them, VEGA 25.5 (its infections are evaluations too).
 - **VEGA against the GA.** No difference at 10 seeds: medians 0.25527 (GA) and 0.25536
   (VEGA), Wilcoxon p = 0.75 (rank-biserial -0.2), Mann-Whitney p = 0.64. Both found the
   same best plan (seed 104473117, objective 0.25506); eight of ten pairs end within
