@@ -14,6 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..geometry.rows import ranges
+from ..geometry.surface import normal_curvature
 from .batch import PlanBatch
 from .overrun import edge_overrun as add_overrun
 
@@ -68,11 +69,12 @@ def finish(planner, n, zones, sec, reverse, start, count, pts, seg, tool, genes,
     tip = None
     if place:
         tip = np.empty_like(pt["p"])
+        bend = _bend(planner.surface, pt, on_part)
         for t in np.unique(tool[ind_pt]):
             sel = tool[ind_pt] == t
             tip[sel] = machine.tips(planner.tools.cutter(t), planner.surface,
                                     pt["p"][sel] - shift[sel], pt["normal"][sel],
-                                    pt["axis"][sel], shift[sel])
+                                    pt["axis"][sel], shift[sel], bend[sel])
     extra = {k: pt.pop(k) for k in _POINT_EXTRA if k in pt}
     return PlanBatch(
         n=n, zones=zones, sec_ind=sec["ind"], sec_zone=sec["zone"], sec_pass=sec["pass_k"],
@@ -82,3 +84,15 @@ def finish(planner, n, zones, sec, reverse, start, count, pts, seg, tool, genes,
         seg_err=seg["err"], seg_len=seg["len"], seg_cc=seg["cc"], **pt,
         pt_cross=extra.get("cross"), pt_gap=extra.get("gap"),
         pt_gap_side=extra.get("gap_side"))
+
+
+def _bend(surface, pt, on_part) -> np.ndarray:
+    """The surface's normal curvature along the travel (1/mm, > 0 concave seen from the
+    tool) at the CC point each run-on row repeats (its u, v, normal and tangent are those
+    of the section's end point); 0 on the part."""
+    bend = np.zeros(len(on_part))
+    off = np.flatnonzero(~on_part)
+    if off.size:
+        jet = surface.jet(pt["u"][off], pt["v"][off], order=2)
+        bend[off] = normal_curvature(jet, pt["tangent"][off], normal=pt["normal"][off])
+    return bend

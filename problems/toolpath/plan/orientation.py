@@ -62,9 +62,11 @@ class Machine:
         """Unit tool axes (N, 3) from normals, travel tangents and per-point genes (N,)."""
         raise NotImplementedError
 
-    def tips(self, cutter, surface, cc, normal, axis, shift=None) -> np.ndarray:
+    def tips(self, cutter, surface, cc, normal, axis, shift=None, bend=None) -> np.ndarray:
         """CL points (k, 3) of one cutter's CC points (k, 3), moved by ``shift`` (k, 3)
-        (None: not moved): the run past an edge (``overrun.py``)."""
+        (None: not moved): the run past an edge (``overrun.py``); ``bend`` (k,): the
+        surface's normal curvature along the travel at the CC point (1/mm, > 0 concave),
+        for a machine whose run-on follows it."""
         raise NotImplementedError
 
 
@@ -84,11 +86,21 @@ class FiveAxis(Machine):
         return (np.sin(lead) * tangent + np.cos(lead) * np.sin(tilt) * b
                 + np.cos(lead) * np.cos(tilt) * normal)
 
-    def tips(self, cutter, surface, cc, normal, axis, shift=None):
-        """The tangent tips; a shift moves them as they are: the run past an edge follows
-        the travel tangent with the end point's axis."""
+    def tips(self, cutter, surface, cc, normal, axis, shift=None, bend=None):
+        """The tangent tips; a shift moves them with the end point's axis: the run past an
+        edge follows the travel tangent, and where the surface is concave along it
+        (``bend`` > 0) the osculating parabola, lifted off the tangent by bend s^2 / 2
+        along the normal at a distance s. Along the straight tangent a pass that meets the
+        edge obliquely sweeps the wedge of part beside it below the surface (Fountas'
+        part, torus D16 r3, lead 10, an iso-scallop plan: 0.222 mm of gouge, none without
+        its run-on moves; along the parabola 0.0064 mm, 0.5 mm grid)."""
         tip = cutter.cc_to_tip(cc, normal, axis)
-        return tip if shift is None else tip + shift
+        if shift is None:
+            return tip
+        if bend is not None:
+            s2 = np.einsum("ij,ij->i", shift, shift)
+            shift = shift + normal * (0.5 * np.maximum(bend, 0.0) * s2)[:, None]
+        return tip + shift
 
 
 class ThreeAxis(Machine):
@@ -107,7 +119,7 @@ class ThreeAxis(Machine):
     def axes(self, normal, tangent, genes):
         return np.broadcast_to(np.array([0.0, 0.0, 1.0]), normal.shape).copy()
 
-    def tips(self, cutter, surface, cc, normal, axis=None, shift=None):
+    def tips(self, cutter, surface, cc, normal, axis=None, shift=None, bend=None):
         """The tangent tool's XY plus the shift, dropped onto the part (placement ``cc``:
         the tangent tip plus the shift)."""
         tangent_tip = cutter.cc_to_tip(cc, normal, (0.0, 0.0, 1.0))

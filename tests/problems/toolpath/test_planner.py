@@ -71,9 +71,16 @@ def test_5axis_axis_has_the_lead_and_tilt_angles():
     lead = np.degrees(np.arcsin(np.sum(a * t, axis=1)))
     tilt = np.degrees(np.arctan2(np.sum(a * np.cross(n, t), axis=1), np.sum(a * n, axis=1)))
     assert np.allclose(lead, 4.0) and np.allclose(tilt, 1.5)
-    # the tool touches the surface at the CC point: the tip is the tangent placement
+    # the tool touches the surface at the CC point: the tip is the tangent placement; past
+    # the part's edge the run-on rows' tips are lifted along the normal off their nominal
+    # point (the osculating parabola where the surface is concave along the travel)
     cutter = parse_tools(None).cutter(5)
-    assert np.allclose(b.tip, cutter.cc_to_tip(b.p, n, a))
+    on = b.on_part
+    assert np.allclose(b.tip[on], cutter.cc_to_tip(b.p[on], n[on], a[on]))
+    lift = b.tip[~on] - cutter.cc_to_tip(b.p[~on], n[~on], a[~on])
+    along = np.einsum("ij,ij->i", lift, n[~on])
+    assert (~on).any() and np.allclose(lift, along[:, None] * n[~on]) and np.all(along >= 0)
+    assert along.max() > 0  # Fountas' part is concave along the feed at some pass ends
 
 
 def test_claimed_cut_length_is_the_length_of_the_sections_of_the_cl_path():

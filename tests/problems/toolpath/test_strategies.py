@@ -442,3 +442,19 @@ def test_contour_corner_passes_bring_the_corners_of_nested_loops_under_h_c():
     lower_left = [xy for _, xy in seg if np.allclose(xy[0], [0, 0])]
     assert len(seg) == 4 and len(lower_left) == 1 and notched.covers(shapely.LineString(lower_left[0]))
     assert len(lower_left[0]) == 2 and np.all(lower_left[0][:, 0] < 0.5)
+
+
+def test_5axis_run_on_past_an_oblique_edge_does_not_gouge():
+    """Fountas' part, torus D16 r3 at lead 10, iso-scallop: a pass meeting the edge obliquely
+    runs on past it with the end point's axis. Along the straight 3D tangent it swept the
+    wedge of part beside it 0.222 mm below the surface (none without the run-on moves);
+    along the surface's osculating parabola the cut simulation finds the gouge within the
+    chord tolerance."""
+    from evoplan.problems.toolpath import ToolpathProblem
+
+    pr = ToolpathProblem(surface="fountas", machine="5axis", h_c=0.02, tolerance=0.01,
+                         fixed={"lead": 10.0, "tilt": 0.0, "step": 5.0}, strategy="isoscallop")
+    path, labels = pr.cl_path({"tool": 6})
+    assert (~path.info["on_part"]).any()  # the plan has run-on moves
+    m = simulate(path, design_grid(pr.surface, 0.5), allowance=0.5, mesh_labels=labels).metrics
+    assert m["gouge_max_mm"] <= 0.01, m["gouge_max_mm"]
