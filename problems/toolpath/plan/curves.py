@@ -123,6 +123,16 @@ def plan_pieces(planner, n, zones, pieces_of, tool, genes, step, place):
     t = p[nxt] - p[prv]
     t -= np.einsum("ij,ij->i", t, normal)[:, None] * normal
     t /= np.maximum(np.linalg.norm(t, axis=1, keepdims=True), 1e-300)
+    # a section whose points coincide (a contour's spine that is a point) has no travel of
+    # its own: it is taken along its zone's feed direction, so that a 5-axis tool leans as
+    # on the zone's other passes (with no tangent the axis fell back to the normal, and the
+    # flat-bottomed torus gouged Fountas' concave part 0.178 mm at the spine)
+    still = np.linalg.norm(t, axis=1) < 0.5
+    if still.any():
+        a = np.array([pc.alpha for _, pc in pcs], float)[pt_sec[still]]
+        f = np.column_stack([np.cos(a), np.sin(a), np.zeros_like(a)])
+        f -= np.einsum("ij,ij->i", f, normal[still])[:, None] * normal[still]
+        t[still] = f / np.linalg.norm(f, axis=1, keepdims=True)
     c = np.column_stack([np.interp(s_all, arc, cross[:, k]) for k in range(3)])
     c[:, 2] = 0.0
     none = np.linalg.norm(c, axis=1) < 1e-9  # no neighbouring pass: across the travel

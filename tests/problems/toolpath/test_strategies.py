@@ -458,3 +458,19 @@ def test_5axis_run_on_past_an_oblique_edge_does_not_gouge():
     assert (~path.info["on_part"]).any()  # the plan has run-on moves
     m = simulate(path, design_grid(pr.surface, 0.5), allowance=0.5, mesh_labels=labels).metrics
     assert m["gouge_max_mm"] <= 0.01, m["gouge_max_mm"]
+
+
+def test_a_point_section_leans_like_the_zone_s_other_passes():
+    """A contour plan of Fountas' part ends on a spine of coincident points, which has no
+    travel of its own: it is taken along the zone's feed direction, so a 5-axis axis keeps
+    its lead there (with no tangent it stood on the normal, and the torus gouged 0.178 mm)."""
+    from evoplan.problems.toolpath import ToolpathProblem
+
+    pr = ToolpathProblem(surface="fountas", machine="5axis", h_c=0.02, tolerance=0.01,
+                         fixed={"lead": 10.0, "tilt": 0.0, "step": 5.0}, strategy="contour")
+    batch, _ = pr.plan(pr.row({"tool": 6}), place=False)
+    spans = [np.ptp(batch.p[a:a + c], axis=0).max() for a, c in zip(batch.sec_start, batch.sec_count)]
+    assert min(spans) < 1e-9  # a section of coincident points
+    a, n, t = batch.axis, batch.normal, batch.tangent
+    np.testing.assert_allclose(np.linalg.norm(t, axis=1), 1.0)
+    np.testing.assert_allclose(np.einsum("ij,ij->i", a, n), np.cos(np.radians(10.0)), atol=1e-9)
