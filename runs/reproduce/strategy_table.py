@@ -144,28 +144,29 @@ def main() -> None:
 
 
 READING = """
-## Reading (written by hand after the run; 698 s on a shared host, load about 1.3)
+## Reading (written by hand after the run; 722 s on a quiet host)
 
 - **Lengths, Zou's comparison.** On Fountas' part iso-parametric curves are 3-5 % shorter
   than iso-scallop offsets (Zou et al.: 9-22 % longer on their blade and seat), parallel
   planes at the step-over whose worst point leaves h_c are 37-47 % longer, and contour
   loops 116-121 % longer. On the STEP face parallel and iso-parametric are 2-8 % longer
   than iso-scallop and contour 104-125 % longer.
-- **Verdicts.** One plan of Fountas' part meets h_c at 0.05 mm (the ball's parallel
-  plan; none of the torus's), and one on the STEP face (the torus's contour). Most
-  failures on Fountas' part are at the limit (max 0.022 against 1.1 h_c = 0.022 mm, p99
-  0.020-0.023 against 0.02: two rows flip between 0.1 and 0.05 mm); the 5-axis iso-scallop
-  and contour plans with the torus gouge by 0.23 and 0.18 mm, at the part's corner and
-  edges (69 cells of 0.5 mm on the iso-scallop plan), where parallel planes at the same
-  lead do not. The run-on moves past the edge make all of it: the iso-scallop plan swept
-  without them leaves no gouge (0.5 mm grid), with them 0.222 mm, where a pass meets the
-  edge obliquely and the tool runs on along the straight 3D tangent over the wedge of part
-  beside it. On the STEP face the p99 is within h_c on every plan but one (iso-scallop
-  ball, 0.050) and the maxima are 2.5-4.7 h_c, in the cell rows along the footprint's
-  boundary (0.2-0.6 mm in, along the outer edges and the notch's) on six of the seven
-  failing plans at 0.2 mm, 13.8 mm inside on the ball's contour plan. The
-  torus's iso-parametric plan there also gouges 0.0102 mm at 0.05 mm, just over the 0.01 mm
-  tolerance.
+- **Verdicts.** One plan of Fountas' part meets h_c at 0.05 mm (the ball's parallel plan;
+  none of the torus's), and one on the STEP face (the torus's contour). Most failures on
+  Fountas' part are at the limit (max 0.022 against 1.1 h_c = 0.022 mm, p99 0.020-0.023
+  against 0.02: two rows flip between 0.1 and 0.05 mm). No plan of Fountas' part gouges
+  beyond the tolerance any more. The torus's iso-scallop and contour plans gouged 0.23 and
+  0.18 mm, and the ball's iso-scallop plan 0.013 mm, until two fixes (6de56b9, cf53957).
+  First, a pass meeting the edge obliquely ran on past it along the straight 3D tangent,
+  over the wedge of part beside it (the iso-scallop plan swept without its run-on moves left
+  no gouge, with them 0.222 mm); the 5-axis run-on now follows the surface's osculating
+  parabola. Second, the contour's spine, a point, had no travel tangent, so its axis stood
+  on the normal; it is now travelled along the zone's feed direction. On the STEP face the
+  p99 is within h_c on every plan but one (iso-scallop ball, 0.050) and the maxima are
+  2.5-4.7 h_c, in the cell rows along the footprint's boundary (0.2-0.6 mm in, along the
+  outer edges and the notch's) on six of the seven failing plans at 0.2 mm, 13.8 mm inside
+  on the ball's contour plan. The torus's iso-parametric plan there also gouges 0.0102 mm at
+  0.05 mm, just over the 0.01 mm tolerance.
 - **Lead.** At Fountas' published lead of about 3 deg the torus's effective radius across
   the feed (98.5 mm) exceeds the part's concave radius across it (66-122 mm at three points
   sampled), the spacing formula has no answer and falls back to the cutter's width, and the
