@@ -92,9 +92,12 @@ def _call(fn: Callable, arg):
 #: its page faults. A 5-axis Fountas batch of 100 plans took 0.13 s on one core with glibc's
 #: defaults and 0.23 s with the variable (68 000 page faults, 0.1 s of system time): the Dask
 #: workers ran at the serial speed. ``None`` drops the variable (``distributed.nanny``);
-#: the BLAS threads stay at distributed's one per worker.
+#: the BLAS threads stay at distributed's one per worker. A nanny also writes its variables
+#: into this process's environment, which its workers (and any other cluster's) inherit, so
+#: the variable is also kept out of the environment while evoplan's local cluster runs.
+TRIM = "MALLOC_TRIM_THRESHOLD_"
 QUIET_WORKERS = {"distributed.worker.profile.enabled": False,
-                 "distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None}
+                 f"distributed.nanny.pre-spawn-environ.{TRIM}": None}
 
 
 LOST = {"FutureCancelledError", "CancelledError", "KilledWorker", "CommClosedError"}  # the worker died
@@ -133,6 +136,7 @@ class DaskPool:
 
     name = "dask"
     timeout: float | None = None  # seconds per row a chunk may run (evaluation.timeout_s)
+    _trim: str | None = None  # the environment's MALLOC_TRIM_THRESHOLD_ while a local cluster runs
 
     def __init__(self, workers: int | None = None, scheduler: str | None = None, label: str = "--scheduler") -> None:
         try:
@@ -154,6 +158,7 @@ class DaskPool:
             import dask
 
             n = workers or os.cpu_count() or 1
+            self._trim = os.environ.pop(TRIM, None)  # put back by close (QUIET_WORKERS)
             # no dashboard; the scheduler's HTTP endpoint on a free port (8787 may be taken); no
             # statistical profiler sampling every worker thread (CPU that n workers share)
             with dask.config.set(QUIET_WORKERS):
@@ -267,13 +272,17 @@ class DaskPool:
         self.client.close()
         if self.cluster is None:
             return
-        for attempt in range(CLOSE_TRIES):
-            try:
-                self.cluster.close()
-                return
-            except Exception as e:  # noqa: BLE001 - see the docstring
-                log.debug("dask: closing the local cluster failed (%s), attempt %d", e, attempt + 1)
-                time.sleep(POLL * 10)
+        try:
+            for attempt in range(CLOSE_TRIES):
+                try:
+                    self.cluster.close()
+                    return
+                except Exception as e:  # noqa: BLE001 - see the docstring
+                    log.debug("dask: closing the local cluster failed (%s), attempt %d", e, attempt + 1)
+                    time.sleep(POLL * 10)
+        finally:
+            if self._trim is not None:
+                os.environ[TRIM] = self._trim
 
 
 POOLS: dict[str, type] = {"serial": SerialPool, "processes": ProcessPool, "dask": DaskPool}

@@ -41,11 +41,13 @@ def _trim_threshold() -> str | None:
     return os.environ.get("MALLOC_TRIM_THRESHOLD_")
 
 
-def test_local_dask_workers_keep_glibc_s_own_malloc_thresholds():
+def test_local_dask_workers_keep_glibc_s_own_malloc_thresholds(monkeypatch):
     """distributed's nannies set MALLOC_TRIM_THRESHOLD_ before they spawn a worker, which fixes
     glibc's mmap threshold and made numpy-heavy batches 1.8x slower; evoplan's local cluster
-    drops it (and keeps one BLAS thread a worker)."""
+    drops it (and keeps one BLAS thread a worker), also when an earlier cluster's nanny left it
+    in this process's environment, which is given back afterwards."""
     pytest.importorskip("distributed")
+    monkeypatch.setenv("MALLOC_TRIM_THRESHOLD_", "65536")  # as a default cluster's nanny leaves it
     pool = open_pool("dask", 2)
     try:
         seen = pool.client.run(_trim_threshold)
@@ -54,3 +56,4 @@ def test_local_dask_workers_keep_glibc_s_own_malloc_thresholds():
         pool.close()
     assert len(seen) == 2 and set(seen.values()) == {None}, seen
     assert {e[1] for e in env.values()} == {"1"}, env
+    assert os.environ["MALLOC_TRIM_THRESHOLD_"] == "65536"
