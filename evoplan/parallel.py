@@ -161,11 +161,15 @@ class DaskPool:
             self._trim = os.environ.pop(TRIM, None)  # put back by close (QUIET_WORKERS)
             # no dashboard; the scheduler's HTTP endpoint on a free port (8787 may be taken); no
             # statistical profiler sampling every worker thread (CPU that n workers share)
-            with dask.config.set(QUIET_WORKERS):
-                self.cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                                            dashboard_address=None, scheduler_kwargs={"dashboard_address": ":0"},
-                                            silence_logs=logging.CRITICAL)  # lost workers are handled here
-            self.client = Client(self.cluster, set_as_default=False)
+            try:
+                with dask.config.set(QUIET_WORKERS):
+                    self.cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
+                                                dashboard_address=None, scheduler_kwargs={"dashboard_address": ":0"},
+                                                silence_logs=logging.CRITICAL)  # lost workers are handled here
+                self.client = Client(self.cluster, set_as_default=False)
+            except BaseException:
+                self._restore_trim()  # no pool to close: the environment as it was
+                raise
         self.workers = worker_slots(self.client) or (workers or 1)
         self.size = len(self.client.nthreads()) or (workers or 1)  # workers to scale a local cluster back to
 
@@ -281,8 +285,13 @@ class DaskPool:
                     log.debug("dask: closing the local cluster failed (%s), attempt %d", e, attempt + 1)
                     time.sleep(POLL * 10)
         finally:
-            if self._trim is not None:
-                os.environ[TRIM] = self._trim
+            self._restore_trim()
+
+    def _restore_trim(self) -> None:
+        """Put the environment's MALLOC_TRIM_THRESHOLD_ back (see :data:`QUIET_WORKERS`)."""
+        if self._trim is not None:
+            os.environ[TRIM] = self._trim
+            self._trim = None
 
 
 POOLS: dict[str, type] = {"serial": SerialPool, "processes": ProcessPool, "dask": DaskPool}

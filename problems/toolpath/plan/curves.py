@@ -127,9 +127,10 @@ def plan_pieces(planner, n, zones, pieces_of, tool, genes, step, place):
     # its own: it is taken along its zone's feed direction, so that a 5-axis tool leans as
     # on the zone's other passes (with no tangent the axis fell back to the normal, and the
     # flat-bottomed torus gouged Fountas' concave part 0.178 mm at the spine)
+    alpha = np.array([pc.alpha for _, pc in pcs], float)
     still = np.linalg.norm(t, axis=1) < 0.5
     if still.any():
-        a = np.array([pc.alpha for _, pc in pcs], float)[pt_sec[still]]
+        a = alpha[pt_sec[still]]
         f = np.column_stack([np.cos(a), np.sin(a), np.zeros_like(a)])
         f -= np.einsum("ij,ij->i", f, normal[still])[:, None] * normal[still]
         t[still] = f / np.linalg.norm(f, axis=1, keepdims=True)
@@ -142,7 +143,7 @@ def plan_pieces(planner, n, zones, pieces_of, tool, genes, step, place):
     side = np.sign(-t[:, 1] * c[:, 0] + t[:, 0] * c[:, 1]) * (g > 0)
     sec = {"ind": np.array([i for i, _ in pcs]), "zone": np.array([pc.zone for _, pc in pcs]),
            "pass_k": np.array([pc.pass_k for _, pc in pcs]), "d": np.full(S, np.nan),
-           "alpha": np.array([pc.alpha for _, pc in pcs], float),
+           "alpha": alpha,
            "spacing": np.bincount(pt_sec, g, S) / count,
            "side": np.ones(S, np.int64), "run_lo": np.zeros(S), "run_hi": np.zeros(S)}
     pts = {"u": u, "v": v, "p": p, "chord": chord, "normal": normal, "tangent": t,

@@ -152,14 +152,15 @@ def contour_loops(planner, layout, z, cutter, h_c, lead_tilt=None, ds=0.5, max_l
     surface = planner.surface
     geom = planner.geometry(0.0)
     poly = zone_polygon(surface, layout.labels, z)
-    out, dist, prev = [], 0.0, None
+    out, dist, prev, end = [], 0.0, None, None
     all_rings, all_steps = [], []
-    state = {"end": None}
     last_parts: list = []
 
-    def pieces_of(rings, gap):
+    def pieces_of(rings):
         """(pieces, steps) of closed rings: each its (u, v) above the XY ring, the inward
-        cross-feed, and the step to the next offset its worst point allows."""
+        cross-feed, gap 0 (a loop's is set once its step is known), and the step to the next
+        offset its worst point allows."""
+        nonlocal end
         pieces, steps = [], []
         for ring, outer in rings:
             xy = np.asarray(shapely.segmentize(ring, ds).coords)[:-1]
@@ -167,8 +168,8 @@ def contour_loops(planner, layout, z, cutter, h_c, lead_tilt=None, ds=0.5, max_l
                 continue
             if shapely.LinearRing(xy).is_ccw is not outer:
                 xy = xy[::-1]
-            if state["end"] is not None:  # start where the previous loop ended
-                xy = np.roll(xy, -int(np.argmin(np.linalg.norm(xy - state["end"], axis=1))), axis=0)
+            if end is not None:  # start where the previous loop ended
+                xy = np.roll(xy, -int(np.argmin(np.linalg.norm(xy - end, axis=1))), axis=0)
             xy = np.vstack([xy, xy[:1]])
             uv = _to_uv(geom, xy)
             jet, n, t, b = pass_frame(surface, uv)
@@ -180,8 +181,8 @@ def contour_loops(planner, layout, z, cutter, h_c, lead_tilt=None, ds=0.5, max_l
             horiz = np.abs(np.sum(b[:, :2] * inward, axis=1))
             steps.append(float(np.min(w * horiz)))
             cross = np.column_stack([inward, np.zeros(len(xy))])
-            pieces.append(Piece(uv, cross, np.full(len(uv), gap), z, len(out), layout.alpha[z]))
-            state["end"] = xy[-1]
+            pieces.append(Piece(uv, cross, np.zeros(len(uv)), z, len(out), layout.alpha[z]))
+            end = xy[-1]
         return pieces, steps
 
     def deepest(part, whole):
@@ -214,7 +215,7 @@ def contour_loops(planner, layout, z, cutter, h_c, lead_tilt=None, ds=0.5, max_l
         spines, spine_rings, spine_steps = [], [], []
         for part in lost:  # parts gone before this distance: each one's deepest offset
             deep_rings = rings_of(_polygons(deepest(part, spine and len(lost) == 1), degenerate=True))
-            pieces, steps = pieces_of(deep_rings, 0.0)
+            pieces, steps = pieces_of(deep_rings)
             spines += pieces
             spine_rings += deep_rings
             spine_steps += steps
@@ -227,7 +228,7 @@ def contour_loops(planner, layout, z, cutter, h_c, lead_tilt=None, ds=0.5, max_l
             break
         polys = _polygons(region)
         rings = rings_of(polys)
-        pieces, steps = pieces_of(rings, 0.0)
+        pieces, steps = pieces_of(rings)
         if not pieces:
             break
         step = max(min(steps), 1e-3)
