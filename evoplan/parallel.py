@@ -268,16 +268,14 @@ class DaskPool:
         process"); the workers are first given ``SETTLE_TIMEOUT`` s to come back, and a close
         that still fails is tried again, then left to the nannies' own exit: the run's results
         are written by then and a teardown race must not turn it into a failure."""
-        if self.cluster is not None:
-            try:
-                self.client.wait_for_workers(self.size, timeout=SETTLE_TIMEOUT)
-            except Exception:  # noqa: BLE001 - a cluster that does not settle is closed anyway
-                pass
-        self.client.close()
-        if self.cluster is None:
-            return
         try:
-            for attempt in range(CLOSE_TRIES):
+            if self.cluster is not None:
+                try:
+                    self.client.wait_for_workers(self.size, timeout=SETTLE_TIMEOUT)
+                except Exception:  # noqa: BLE001 - a cluster that does not settle is closed anyway
+                    pass
+            self.client.close()
+            for attempt in range(CLOSE_TRIES if self.cluster is not None else 0):
                 try:
                     self.cluster.close()
                     return
@@ -285,7 +283,7 @@ class DaskPool:
                     log.debug("dask: closing the local cluster failed (%s), attempt %d", e, attempt + 1)
                     time.sleep(POLL * 10)
         finally:
-            self._restore_trim()
+            self._restore_trim()  # however the close ends
 
     def _restore_trim(self) -> None:
         """Put the environment's MALLOC_TRIM_THRESHOLD_ back (see :data:`QUIET_WORKERS`)."""

@@ -69,13 +69,12 @@ def finish(planner, n, zones, sec, reverse, start, count, pts, seg, tool, genes,
     tip = None
     if place:
         tip = np.empty_like(pt["p"])
-        # a drop-cutter tool takes its height from the part, past the edge too: no bend
-        bend = None if machine.drop else _bend(planner.surface, pt, on_part)
+        bend = _bend(planner.surface, pt, on_part) if machine.bends else None
         for t in np.unique(tool[ind_pt]):
             sel = tool[ind_pt] == t
             tip[sel] = machine.tips(planner.tools.cutter(t), planner.surface,
                                     pt["p"][sel] - shift[sel], pt["normal"][sel],
-                                    pt["axis"][sel], shift[sel], None if bend is None else bend[sel])
+                                    pt["axis"][sel], shift[sel], bend if bend is None else bend[sel])
     extra = {k: pt.pop(k) for k in _POINT_EXTRA if k in pt}
     return PlanBatch(
         n=n, zones=zones, sec_ind=sec["ind"], sec_zone=sec["zone"], sec_pass=sec["pass_k"],

@@ -42,12 +42,14 @@ class Machine:
     """How a machine orients and places the tool. ``genes``: the decisions it adds;
     ``overrun``: whether sections ending on the part's edge run on past it
     (``overrun.py``); ``drop``: whether the tool's height comes from the drop-cutter (its
-    moves are then checked at their own XY)."""
+    moves are then checked at their own XY); ``bends``: whether its run past the edge
+    follows the surface's curvature along the travel (``tips``' ``bend``)."""
 
     name = ""
     genes: tuple[str, ...] = ()
     overrun = True
     drop = False
+    bends = False
 
     @property
     def wedge(self) -> bool:
@@ -66,13 +68,14 @@ class Machine:
         """CL points (k, 3) of one cutter's CC points (k, 3), moved by ``shift`` (k, 3)
         (None: not moved): the run past an edge (``overrun.py``); ``bend`` (k,): the
         surface's normal curvature along the travel at the CC point (1/mm, > 0 concave),
-        for a machine whose run-on follows it."""
+        given only to a machine that ``bends``."""
         raise NotImplementedError
 
 
 class FiveAxis(Machine):
     name = "5axis"
     genes = ("lead", "tilt")
+    bends = True
 
     def __init__(self, placement: str | None = None):
         if placement not in (None, "cc"):
