@@ -46,7 +46,7 @@ class ToolpathProblem(Problem):
     files. The strategy: ``machine`` 5axis | 3axis, ``placement`` (3-axis: drop | cc),
     ``zoning`` {method, mesh, merge, settings, seed}, ``spacing`` stepover | scallop, ``h_c``
     (mm; 0.254 with scallop spacing), ``delta_l`` (mm, Eq. 4), ``feed_angle`` (degrees from +X,
-    or ``optimized``), ``tolerance`` (chord, mm), ``edge_overrun``, ``strategy``. The
+    or ``optimized``), ``tolerance`` (chord, mm), ``edge_overrun``, ``border_passes``, ``strategy``. The
     decisions: ``ranges`` {gene: [lo, hi]}, ``fixed`` {gene: value} (the tool by its id). The
     judgement: ``weights`` (criterion -> weight, default machining_error 0.5 + cc_count 0.5),
     ``objectives`` (a multi-objective F), ``normalization`` {criterion: [lo, hi]} (``[0, 1]``
@@ -72,7 +72,8 @@ class ToolpathProblem(Problem):
             zoning=None if spec.zoning is None else spec.zoning.zoning_spec(spec.delta_l),
             spacing=spec.spacing, h_c=spec.scallop_height, tolerance=spec.tolerance,
             feed_angle=None if spec.feed_angle == "optimized" else spec.feed_angle,
-            max_rounds=spec.max_rounds, edge_overrun=spec.edge_overrun, strategy=spec.strategy)
+            max_rounds=spec.max_rounds, edge_overrun=spec.edge_overrun, strategy=spec.strategy,
+            border_passes=spec.border_passes)
         self.delta_l = spec.delta_l
         self.feed_rate = spec.feed_rate
         self.dynamics = spec.dynamics

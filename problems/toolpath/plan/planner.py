@@ -51,14 +51,16 @@ class Planner:
     (mm); ``feed_angle``: degrees from +X, or None (optimized per zone);
     ``max_rounds``: chord refinement rounds; ``edge_overrun``: sections that end on the
     part's edge run on past it (``overrun.py``; False: they stop at their last CC point, as
-    the former evaluator's passes did, and leave the edge rows and wedges high).
+    the former evaluator's passes did, and leave the edge rows and wedges high);
+    ``border_passes``: a trimmed footprint's edges that the passes leave high are cut by
+    border passes (``border.py``).
     """
 
     def __init__(self, surface: Surface, tools: ToolDatabase, *, machine: str = "5axis",
                  placement: str | None = None, zoning=None, spacing: str = "stepover",
                  h_c: float | None = None, tolerance: float = 0.01,
                  feed_angle: float | None = 0.0, max_rounds: int = 6,
-                 edge_overrun: bool = True, strategy=None):
+                 edge_overrun: bool = True, strategy=None, border_passes: bool = True):
         if spacing not in SPACINGS:
             raise ValueError(f"spacing: expected one of {', '.join(SPACINGS)}, got {spacing!r}")
         if spacing == "scallop" and h_c is None:
@@ -72,6 +74,7 @@ class Planner:
         self.tolerance, self.max_rounds = float(tolerance), int(max_rounds)
         self.feed_angle = None if feed_angle is None else float(feed_angle)
         self.edge_overrun = bool(edge_overrun) and self.machine.overrun
+        self.border_passes = bool(border_passes)
         self.layouts = ZoneLayouts(surface, tools, zoning, self.h_c, self.feed_angle)
         # a list of strategies: the categorical gene ``strategy`` chooses among them
         self.choices = ([get_strategy(x, f"strategy[{i}]") for i, x in enumerate(strategy)]
@@ -145,7 +148,7 @@ class Planner:
         planner's list of strategies) each strategy plans its individuals and the plans
         form one batch."""
         if not self.choices:
-            return self.strategy.plan(self, genes, place)
+            return self._bordered(self.strategy.plan(self, genes, place), genes, place)
         missing = [g for g in self.gene_names if g not in genes]
         if missing:
             raise ValueError(f"genes: missing {', '.join(missing)}")
@@ -156,8 +159,17 @@ class Planner:
             rows = np.flatnonzero(k == s)
             sub = {g: np.broadcast_to(np.asarray(v), (len(k),))[rows] for g, v in genes.items()}
             parts.append((rows, self.choices[s].plan(self, sub, place)))
-        return parts[0][1] if len(parts) == 1 and len(parts[0][0]) == len(k) else \
+        batch = parts[0][1] if len(parts) == 1 and len(parts[0][0]) == len(k) else \
             merge_batches(len(k), parts)
+        return self._bordered(batch, genes, place)
+
+    def _bordered(self, batch: PlanBatch, genes: dict, place: bool) -> PlanBatch:
+        """The border passes a trimmed footprint's plans need (``border.py``)."""
+        if not self.border_passes:
+            return batch
+        from .border import with_border
+
+        return with_border(self, batch, genes, place)
 
     def cl_path(self, genes: dict, feed_rate: float = 1000.0, chord_rounds: int = 8) -> CLPath:
         """The toolpath of ONE decision set (``genes``: a value or a (1,) array per name) as

@@ -138,6 +138,9 @@ class ToolpathSpec(BaseModel):
     max_rounds: int = Field(6, description="refinement rounds of the adaptive pass spacing")
     edge_overrun: Annotated[StrictBool, BeforeValidator(_flag),
                             Field(description="passes run on past the part's edges")] = True
+    border_passes: Annotated[StrictBool, BeforeValidator(_flag),
+                             Field(description="a trimmed face's edges the passes leave above "
+                                   "h_c are cut by border passes")] = True
     strategy: Annotated[Any, BeforeValidator(_strategy),
                         Field(description="the pass layout: " + " | ".join(STRATEGIES)
                               + ", {name, ...settings}, or a list to choose from")] = None
