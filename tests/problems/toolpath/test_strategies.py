@@ -323,6 +323,32 @@ def test_contour_loops_are_nested_and_never_cross():
     assert len(np.unique(batch.sec_pass)) == len(loops) + len(corners)
 
 
+def test_ridge_rings_find_the_strip_a_pinched_offset_leaves_between_a_hole_and_an_edge():
+    """A 40 x 20 face with a hole of radius 5 at its middle: the material above and below
+    the hole is 5 wide, its ridge (medial line) 2.5 from both sides. With loops 1.5 apart,
+    the offset at 3 has pinched off there: the loop at 1.5 passes 1.0 from the ridge on
+    each side, beyond its reach of 0.75, so a strip along y = 2.5 and y = 17.5 is found;
+    with loops 2 apart the loop at 2 passes 0.5 from it, within reach of 1: nothing there.
+    Nested offsets of a plain box leave nothing but the gaps inside their corners, which
+    the corner passes cut."""
+    import shapely
+
+    from evoplan.problems.toolpath.plan.strategies.contour import ridge_rings
+
+    box = shapely.box(0, 0, 40, 20)
+    face = box.difference(shapely.Point(20, 10).buffer(5, 64))
+    ridge = [shapely.Point(20, 2.5), shapely.Point(20, 17.5)]
+    gaps = ridge_rings(face.buffer(-1.5), face.buffer(-3.0), 1.5)
+    assert all(any(g.contains(p) for g in gaps) for p in ridge)
+    gaps = ridge_rings(face.buffer(-2.0), face.buffer(-4.0), 2.0)
+    assert not any(g.contains(p) for g in gaps for p in ridge)
+    corners = np.array([[1.5, 1.5], [38.5, 1.5], [38.5, 18.5], [1.5, 18.5]])
+    assert len(ridge_rings(box.buffer(-1.5, join_style="mitre"),
+                           box.buffer(-3.0, join_style="mitre"), 1.5)) == 4  # the corners
+    assert ridge_rings(box.buffer(-1.5, join_style="mitre"), box.buffer(-3.0, join_style="mitre"),
+                       1.5, corners=corners) == []
+
+
 def test_untangle_cuts_a_swallowtail_at_its_crossing():
     from evoplan.problems.toolpath.plan.strategies.offsets import untangle
 

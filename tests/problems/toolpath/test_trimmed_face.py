@@ -134,3 +134,32 @@ def test_the_committed_part_is_what_its_script_makes(tmp_path):
     assert [len(lp) for lp in made.footprint.loops] == [len(lp) for lp in shipped.footprint.loops]
     assert max(np.abs(a - b).max() for a, b in zip(made.footprint.loops,
                                                     shipped.footprint.loops)) < 1e-9
+
+
+def test_contour_ridges_between_the_hole_and_the_edges_are_cut(top):
+    """Between the hole and the block's edges the offsets pinch: their fronts meet head-on
+    at x = 43.7 and x = 86.5, where the last loop before the pinch passes farther than its
+    reach on both sides (ball D6, h_c 0.05: cells there were left 0.137 mm high on the
+    0.2 mm grid). Ridge passes along those strips leave every cell of the face within
+    1.1 h_c, for 2.3 % more length."""
+    planner = Planner(top, parse_tools(BALL), machine="3axis", spacing="scallop", h_c=0.05,
+                      tolerance=0.01, feed_angle=0.0, strategy="contour")
+    genes = {"tool": np.array([0]), "step": np.array([2.0])}
+    grid = design_grid(planner.surface, 0.2)
+    res = sweep_path(planner.cl_path(genes), grid).values[grid.inside]
+    assert np.isfinite(res).all() and res.max() <= 1.1 * 0.05
+
+
+def test_iso_scallop_offsets_stopped_at_the_domain_edge_keep_finite_widths(top):
+    """Where the walk to the next pass stops several points at one spot of the domain's
+    edge, the next pass has no direction of its own there; its width used to be 0 / 0 (a
+    RuntimeWarning from the curvature, then nan uv cast to grid indices): now this pass's
+    direction is used, and planning raises no floating-point warning."""
+    import warnings
+
+    planner = Planner(top, parse_tools(BALL), machine="3axis", spacing="scallop", h_c=0.05,
+                      tolerance=0.01, feed_angle=0.0, strategy="isoscallop")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        batch = planner.plan({"tool": np.array([0]), "step": np.array([2.0])})
+    assert np.isfinite(batch.p).all() and np.isfinite(batch.tip).all()

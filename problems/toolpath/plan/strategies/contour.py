@@ -17,7 +17,9 @@ its boundary, outwards into the material. ``link: spiral`` cuts every run of off
 stay one loop as one spiral (:func:`spiral`) instead of closed loops linked across.
 ``corners`` (default true): after the loops, a pass along the bisector of every convex
 corner from one loop to the next (:func:`corner_segments`: nested offsets keep sharp
-corners, step / sin(theta / 2) apart).
+corners, step / sin(theta / 2) apart). Where an offset pinches (between a hole and an
+edge), the strips of material neither it nor the last loop before it reaches are cut after
+the loops as ridge passes (:func:`ridge_rings`), in one nearest-neighbour tour.
 """
 
 from __future__ import annotations
@@ -29,7 +31,7 @@ from ..curves import Piece
 from .base import CurveStrategy
 from .offsets import cross_width, pass_frame
 
-__all__ = ["Contour", "zone_polygon", "contour_loops", "spiral"]
+__all__ = ["Contour", "zone_polygon", "contour_loops", "ridge_rings", "spiral"]
 
 
 def zone_polygon(surface, labels, z, n_side: int = 256):
@@ -130,6 +132,68 @@ def corner_segments(rings, steps, ds: float = 0.5, region=None):
     return out
 
 
+def ridge_rings(here, there, step, lost=(), corners=None) -> list:
+    """Polygons of the material between the offsets ``here`` and ``there`` (``step`` further
+    in) that neither covers: farther than step / 2 from ``here``'s boundary and from
+    ``there``. Where the offsets nest that is nothing; where an offset pinches (a part of
+    the face between a hole and an edge, the fronts from both sides meet on its medial
+    axis) the next offset has left the ridge, and the last loop reaches it from both sides
+    only within step / 2: a sliver along the ridge stays high (the sample STEP block's ball
+    plan: 0.08-0.14 mm against h_c 0.05 on the ridge between its hole and its edges).
+    Slivers thinner than a tenth of the step (at most 1 % over h_c at their middle), those
+    within a step of one of ``corners`` (XY, (K, 2): the gap inside a loop's convex corner,
+    which its corner pass cuts, :func:`corner_segments`) and the parts ``lost`` (each gets
+    its spine) are left out; each sliver's boundary, cut as a loop (its two long sides lie
+    within step / 2 of its middle), covers it."""
+    import shapely
+
+    half = 0.5 * step * (1.0 + 1e-3)
+    reach = shapely.union(shapely.boundary(here).buffer(half), there.buffer(half))
+    eps = 0.05 * step
+    left = here.difference(reach).buffer(-eps).buffer(eps)
+    if left.is_empty:
+        return []
+    near = shapely.MultiPoint(corners).buffer(step) if corners is not None and len(corners) \
+        else None
+    return [g for g in _polygons(left.intersection(here))
+            if not any(g.intersects(p) for p in lost) and not (near and g.intersects(near))]
+
+
+def _tour(pieces, surface):
+    """The closed ``pieces`` reordered as a greedy nearest-neighbour tour in XY (each started
+    at its point nearest the previous one's end, the first at its own start)."""
+    left = list(pieces)
+    xy = [surface.jet(pc.uv[:, 0], pc.uv[:, 1], order=0).p[:, :2] for pc in left]
+    out, here = [], xy[0][0] if xy else None
+    while left:
+        d = [np.linalg.norm(p - here, axis=1) for p in xy]
+        k = int(np.argmin([x.min() for x in d]))
+        pc, p, j = left.pop(k), xy.pop(k), int(np.argmin(d[k]))
+        if j:  # a closed ring (last point = first): start it at j
+            ring = np.r_[np.arange(j, len(pc.uv) - 1), np.arange(0, j + 1)]
+            pc = Piece(pc.uv[ring], pc.cross[ring], pc.gap[ring], pc.zone, pc.pass_k, pc.alpha)
+        out.append(pc)
+        here = p[j]  # a closed ring ends where it starts
+    return out
+
+
+def _beyond_reach(gap, reach, margin: float = 1.02) -> bool:
+    """Whether some vertex of the ``gap`` polygon lies farther from its nearest loop point
+    than ``margin`` times that point's own reach (``reach``: [(xy (m, 2), half-width (m,))]
+    per ring of a level: half the spacing that leaves h_c there). The offsets are spaced by
+    their worst point, so most of a loop reaches beyond half the step; a gap that every
+    loop point beside it reaches is no gap."""
+    if not reach:
+        return True
+    from scipy.spatial import cKDTree
+
+    xy = np.concatenate([r[0] for r in reach])
+    half = np.concatenate([r[1] for r in reach])
+    q = np.asarray(gap.exterior.coords)
+    d, j = cKDTree(xy).query(q)
+    return bool(np.any(d > margin * half[j]))
+
+
 def _polygons(region, degenerate: bool = False) -> list:
     """The polygons of an offset region; ``degenerate``: also those of (nearly) no area (an
     offset at the distance where it vanishes is a point or a sliver along the medial axis)."""
@@ -138,10 +202,11 @@ def _polygons(region, degenerate: bool = False) -> list:
 
 
 def contour_loops(planner, layout, z, cutter, h_c, lead_tilt=None, ds=0.5, max_loops=2000,
-                  corners=None):
+                  corners=None, ridges=None):
     """[[Piece]] per offset distance (outside in) of zone z. ``corners``: a list that
     receives the corner passes (:func:`corner_segments`) as pieces (gap 0: no scallop
-    measured against them).
+    measured against them); ``ridges``: one that receives the indices of the levels
+    that hold ridge passes (:func:`ridge_rings`, each cut after the loop it lies along).
 
     Every part of the offsets gets a spine: where a part vanishes before the next offset
     distance (the whole zone at the end, or one part of an offset that split, earlier), the
@@ -152,7 +217,8 @@ def contour_loops(planner, layout, z, cutter, h_c, lead_tilt=None, ds=0.5, max_l
     surface = planner.surface
     geom = planner.geometry(0.0)
     poly = zone_polygon(surface, layout.labels, z)
-    out, dist, prev, end = [], 0.0, None, None
+    out, dist, prev, end, last_region, reach = [], 0.0, None, None, None, []
+    found_rings: list = []
     all_rings, all_steps = [], []
     last_parts: list = []
 
@@ -160,8 +226,8 @@ def contour_loops(planner, layout, z, cutter, h_c, lead_tilt=None, ds=0.5, max_l
         """(pieces, steps) of closed rings: each its (u, v) above the XY ring, the inward
         cross-feed, gap 0 (a loop's is set once its step is known), and the step to the next
         offset its worst point allows."""
-        nonlocal end
-        pieces, steps = [], []
+        nonlocal end, reach
+        pieces, steps, reach = [], [], []
         for ring, outer in rings:
             xy = np.asarray(shapely.segmentize(ring, ds).coords)[:-1]
             if len(xy) < 3:
@@ -180,6 +246,7 @@ def contour_loops(planner, layout, z, cutter, h_c, lead_tilt=None, ds=0.5, max_l
             w = cross_width(surface, cutter, h_c, jet, t, b, lead_tilt)
             horiz = np.abs(np.sum(b[:, :2] * inward, axis=1))
             steps.append(float(np.min(w * horiz)))
+            reach.append((xy, 0.5 * w * horiz))
             cross = np.column_stack([inward, np.zeros(len(xy))])
             pieces.append(Piece(uv, cross, np.zeros(len(uv)), z, len(out), layout.alpha[z]))
             end = xy[-1]
@@ -228,17 +295,31 @@ def contour_loops(planner, layout, z, cutter, h_c, lead_tilt=None, ds=0.5, max_l
             break
         polys = _polygons(region)
         rings = rings_of(polys)
+        here_reach = reach
         pieces, steps = pieces_of(rings)
         if not pieces:
             break
+        if ridges is not None and prev is not None:  # cut after the loop they lie along
+            keep, kept_reach = end, reach  # the loops' own links stay as they were
+            # the gaps inside the loops' convex corners are the corner passes' (or left, as
+            # configured): not ridges
+            served = np.concatenate([_corners(r) for r, outer in rings_of(last_parts) if outer]
+                                    + [np.zeros((0, 2))])
+            gaps = [g for g in ridge_rings(last_region, region, dist - prev, lost, served)
+                    if _beyond_reach(g, here_reach) and _beyond_reach(g, reach)]
+            found_rings += rings_of(gaps)
+            end, reach = keep, kept_reach
         step = max(min(steps), 1e-3)
         for pc in pieces:  # a loop's gap: the step to the next offset
             pc.gap[:] = step
         all_rings.append(rings)
         all_steps.append(step)
         out.append(pieces)
-        last_parts = polys
+        last_parts, last_region = polys, region
         prev, dist = dist, dist + step
+    if found_rings:  # after the loops, one tour from the last loop's end (greedy nearest)
+        ridges.append(len(out))
+        out.append(_tour(pieces_of(found_rings)[0], surface))
     if corners is not None:
         for k, xy in corner_segments(all_rings, all_steps, ds, region=poly):
             seg = np.diff(xy, axis=0)
@@ -297,16 +378,17 @@ class Contour(CurveStrategy):
 
     def zone_passes(self, planner, layout, z, cutter, lead_tilt):
         # then the corner passes, after the loops (corner_segments; corners: false, none)
-        corners = []
+        corners, ridges = [], []
         loops = contour_loops(planner, layout, z, cutter, planner.h_c, lead_tilt,
                               float(self.settings["resample"]),
-                              corners=corners if self.settings["corners"] else None)
+                              corners=corners if self.settings["corners"] else None,
+                              ridges=ridges)
         if self.settings["link"] == "loops":
             # every loop the same way round
             return [pc for pieces in loops for pc in pieces] + corners
         out, chain = [], []
-        for pieces in loops:  # a spiral through every run of offsets that stay one loop
-            if len(pieces) == 1:
+        for k, pieces in enumerate(loops):  # a spiral through every run of offsets that
+            if len(pieces) == 1 and k not in ridges:  # stay one loop
                 chain.append(pieces[0])
                 continue
             if chain:

@@ -187,6 +187,11 @@ def _facing_widths(surface, cutter, h_c, uv, jet, t, b, size, settle, check=3):
         t2 = np.gradient(j2.p, axis=0)  # the next pass's own travel direction
         t2 *= np.where(np.einsum("ij,ij->i", t2, t) >= 0, 1.0, -1.0)[:, None]
         t2 -= np.einsum("ij,ij->i", t2, n2)[:, None] * n2
+        # where the walk stopped several points at one spot (the domain's edge) the next
+        # pass has no direction of its own there: this pass's, in its tangent plane (a
+        # zero direction made its curvature 0 / 0 and its width nan)
+        still = np.linalg.norm(t2, axis=1) < 1e-9
+        t2[still] = t[still] - np.einsum("ij,ij->i", t[still], n2[still])[:, None] * n2[still]
         t2 /= np.maximum(np.linalg.norm(t2, axis=1, keepdims=True), 1e-300)
         b2 = np.cross(n2, t2)
         w = _smooth(near + facing_width(surface, cutter, h_c, j2, t2, -b2), size)
