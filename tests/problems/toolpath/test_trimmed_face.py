@@ -163,3 +163,37 @@ def test_iso_scallop_offsets_stopped_at_the_domain_edge_keep_finite_widths(top):
         warnings.simplefilter("error", RuntimeWarning)
         batch = planner.plan({"tool": np.array([0]), "step": np.array([2.0])})
     assert np.isfinite(batch.p).all() and np.isfinite(batch.tip).all()
+
+
+def test_iso_scallop_corner_passes_close_the_gap_a_swallowtail_leaves(top, monkeypatch):
+    """Where a pass bends towards its offsets, the next pass's swallowtail is cut and leaves
+    a sharp corner gap / sin(theta / 2) from the bend; between them both passes are farther
+    than their reach. On the block's top (torus D10 r2, h_c 0.05) the cells there, around
+    (33.8, 73.3), were left 0.133 mm high; a corner pass from the corner to the bend brings
+    them within 1.1 h_c."""
+    from evoplan.problems.toolpath.plan.strategies import isoscallop
+
+    torus = [{"id": 3, "type": "toroidal", "diameter": 10.0, "corner_radius": 2.0}]
+    genes = {"tool": np.array([0]), "step": np.array([2.0])}
+    grid = design_grid(top, 0.2)
+    cx, cy = np.meshgrid(grid.xs, grid.ys)
+    window = grid.inside & (np.abs(cx - 33.8) < 2.5) & (np.abs(cy - 73.5) < 2.5)
+    worst = {}
+    for corners in (False, True):
+        if not corners:
+            monkeypatch.setattr(isoscallop, "_corner_passes", lambda *a, **k: [])
+        else:
+            monkeypatch.undo()
+        planner = Planner(top, parse_tools(torus), machine="3axis", spacing="scallop",
+                          h_c=0.05, tolerance=0.01, feed_angle=0.0, strategy="isoscallop")
+        worst[corners] = sweep_path(planner.cl_path(genes), grid).values[window].max()
+    assert worst[False] > 2 * 0.05 and worst[True] <= 1.1 * 0.05
+
+
+def test_untangle_reports_the_corner_each_cut_leaves():
+    from evoplan.problems.toolpath.plan.strategies.offsets import untangle
+
+    uv = np.array([[0, 0], [1, 0], [2, 0], [2, 1], [1.5, -1], [3, -1], [4, -1]], float)
+    cut = []
+    out = untangle(uv, crossings=cut)
+    assert len(cut) == 1 and np.allclose(cut[0][0], out[2]) and cut[0][1] == 2

@@ -162,12 +162,14 @@ def march(surface, uv, direction, dist, substeps: int = 2):
     return x
 
 
-def untangle(uv, eps: float = 1e-12):
+def untangle(uv, eps: float = 1e-12, crossings: list | None = None):
     """The polyline uv (M, 2) with its loops cut out: wherever segment i crosses a later,
     non-adjacent segment j, the points between them are replaced by the crossing point
     (the farthest j first: the whole swallowtail an offset forms where the previous pass
     bends towards its offsets). All segment pairs are tested at once (M^2 / 2 pairs: a
-    pass holds a few hundred points)."""
+    pass holds a few hundred points). ``crossings``: a list that receives, per cut, the
+    crossing point kept (the sharp corner the cut leaves) and the middle index of the
+    points cut out: ((2,), int)."""
     m = len(uv) - 1
     if m < 3:
         return uv
@@ -190,6 +192,8 @@ def untangle(uv, eps: float = 1e-12):
     while k < m:
         if far[k] > k:
             out.append(a[k] + s_at[(k, int(far[k]))] * d[k])
+            if crossings is not None:
+                crossings.append((out[-1], (k + 1 + int(far[k])) // 2))
             k = int(far[k])
         out.append(uv[k + 1])
         k += 1
