@@ -51,6 +51,8 @@ BEYOND = 1.1
 SAMPLE_MM = 0.25
 #: a loop turning by more than this (degrees) at a point has a corner there, sampled as such
 CORNER_DEG = 15.0
+#: moves measured at once (their pairs with the loop points: about 40 each)
+BLOCK = 20000
 #: border passes per edge point at most (the edge itself and inward offsets)
 MAX_LEVELS = 6
 
@@ -141,28 +143,58 @@ class PairReach:
     h_c 0.05), a pass along a sloping edge only with its corner (0.44-0.6 mm). A 5-axis tool
     square to the surface has ``Cutter.width(h_c)`` on every side.
 
-    ``cutters`` maps a tool id to its cutter, ``tool`` (n,) is each plan's tool id;
-    ``bound`` (n,) the largest reach of each plan."""
+    A vertical cutter's width is read from a table over (|t_z|, beta) built once per
+    cutter (``Cutter.swept_side_width`` at the nodes; the lowest of a cell's four corners,
+    or of the two on its side where a value is a node's, so that a look-up never claims
+    more reach: a torus's width falls from its flat bottom's to its corner's within a few
+    thousandths of the level, where the nodes are densest, and a level move is on the
+    nodes t_z = 0 and beta = 0). ``cutters`` maps a tool id to its
+    cutter, ``tool`` (n,) is each plan's tool id; ``bound`` (n,) the largest reach of each
+    plan."""
+
+    #: the table's nodes, densest at the level: |t_z| 0.002 sinh(s) on [0, 1], beta the same
+    #: on [-pi / 2, pi / 2]
+    T_Z = 0.002 * np.sinh(np.linspace(0.0, 1.0, 61) * np.arcsinh(1.0 / 0.002))
+    BETA = 0.002 * np.sinh(np.linspace(-1.0, 1.0, 241) * np.arcsinh(0.5 * np.pi / 0.002))
 
     def __init__(self, cutters: dict, tool, h_c: float, vertical: bool):
         self.h_c, self.vertical = float(h_c), bool(vertical)
         self.cutters, self.tool = dict(cutters), np.asarray(tool).astype(np.int64)
-        self.flat = {t: c.width(self.h_c) for t, c in self.cutters.items()}
+        self.flat = {t: float(c.width(self.h_c)) for t, c in self.cutters.items()}
         self.bound = REACH * np.array([self.flat[int(t)] for t in self.tool], float)
+        self.tables = {}
+        if self.vertical:
+            tz, beta = np.meshgrid(self.T_Z, self.BETA, indexing="ij")
+            for t, c in self.cutters.items():
+                w = np.minimum(c.swept_side_width(self.h_c, tz.ravel(), beta.ravel()),
+                               self.flat[t]).reshape(tz.shape)
+                self.tables[t] = w
 
     def __call__(self, plan: np.ndarray, t_z: np.ndarray, beta: np.ndarray) -> np.ndarray:
         """(m,) the reach (mm) for pairs of plan ``plan`` (m,), the move's |t_z| and the
         rise ``beta`` (radians) of the direction from it to the point."""
         out = np.empty(len(plan))
         tool = self.tool[plan]
-        for t, c in self.cutters.items():
+        if self.vertical:  # the lowest corner of the cell, or of its side on a node
+            i, i2 = self._cell(self.T_Z, t_z)
+            j, j2 = self._cell(self.BETA, beta)
+        for t in self.cutters:
             m = tool == t
             if not m.any():
                 continue
-            w = self.flat[t]
-            out[m] = np.minimum(c.swept_side_width(self.h_c, t_z[m], beta[m]), w) \
-                if self.vertical else w
+            if not self.vertical:
+                out[m] = self.flat[t]
+                continue
+            w = self.tables[t]
+            a, a2, b, b2 = i[m], i2[m], j[m], j2[m]
+            out[m] = np.minimum(np.minimum(w[a, b], w[a, b2]), np.minimum(w[a2, b], w[a2, b2]))
         return REACH * out
+
+    @staticmethod
+    def _cell(nodes, x):
+        """The nodes below and above each x (the same node twice where x is one)."""
+        lo = np.clip(np.searchsorted(nodes, x, side="right") - 1, 0, len(nodes) - 2)
+        return lo, np.where(nodes[lo] == x, lo, lo + 1)
 
 
 def plan_moves(batch: PlanBatch, bound: np.ndarray):
@@ -203,11 +235,19 @@ def covered(points: np.ndarray, moves, reach: PairReach, n: int) -> np.ndarray:
     near = np.flatnonzero(d <= r)
     if not len(near):
         return out
-    hits = tree.query_ball_point(mid[near], r[near])
+    for block in np.array_split(near, max(1, int(np.ceil(len(near) / BLOCK)))):
+        _cover(out, points, tree.query_ball_point(mid[block], r[block]), block, a, b, ind,
+               reach)
+    return out
+
+
+def _cover(out, points, hits, moves, a, b, ind, reach):
+    """Mark in ``out`` the points ``hits[k]`` (indices into ``points``) that move
+    ``moves[k]`` (a, b, plan ``ind``) reaches."""
     cnt = np.fromiter((len(h) for h in hits), np.int64, len(hits))
     if not cnt.sum():
-        return out
-    mv = np.repeat(near, cnt)
+        return
+    mv = np.repeat(moves, cnt)
     j = np.concatenate([np.asarray(h, np.int64) for h in hits if len(h)])
     q, a, b = points[j], a[mv], b[mv]
     ab = b - a
@@ -221,7 +261,6 @@ def covered(points: np.ndarray, moves, reach: PairReach, n: int) -> np.ndarray:
     beta = np.arcsin(np.clip(side[:, 2] / np.maximum(side_len, 1e-300), -1.0, 1.0))
     ok = dist <= reach(ind[mv], np.abs(t[:, 2]), np.where(side_len > 1e-9, beta, 0.0))
     out[ind[mv][ok], j[ok]] = True
-    return out
 
 
 def edge_widths(loops: BorderLoops, cutter, h_c: float, vertical: bool) -> np.ndarray:
