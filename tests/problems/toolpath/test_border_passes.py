@@ -122,6 +122,13 @@ def test_a_torus_crossing_an_edge_covers_it_with_its_flat_bottom():
     assert r[0] == pytest.approx(REACH * flat, rel=1e-6)
     assert r[1] < REACH * 0.6 and r[2] < REACH * 0.6
     assert reach.bound.tolist() == pytest.approx([REACH * flat] * 2, rel=1e-6)
+    # the table never claims more than the exact width, and is within 5 % of it at most
+    # samples off the level
+    rng = np.random.default_rng(3)
+    tz, beta = rng.uniform(0.0, 1.0, 400), rng.uniform(-1.5, 1.5, 400)
+    exact = REACH * np.minimum(torus.swept_side_width(H_C, tz, beta), flat)
+    got = reach(np.zeros(400, np.int64), tz, beta)
+    assert np.all(got <= exact + 1e-12) and np.mean(got >= 0.95 * exact) > 0.9
     five = PairReach({7: torus}, np.array([7]), H_C, vertical=False)
     assert five(np.array([0]), np.zeros(1), np.array([0.3]))[0] == pytest.approx(REACH * flat)
 
