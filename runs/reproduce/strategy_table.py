@@ -144,29 +144,32 @@ def main() -> None:
 
 
 READING = """
-## Reading (written by hand after the run; 722 s on a quiet host)
+## Reading (written by hand after the run; 670 s, the host shared for half of it)
 
 - **Lengths, Zou's comparison.** On Fountas' part iso-parametric curves are 3-5 % shorter
   than iso-scallop offsets (Zou et al.: 9-22 % longer on their blade and seat), parallel
   planes at the step-over whose worst point leaves h_c are 37-47 % longer, and contour
-  loops 116-121 % longer. On the STEP face parallel and iso-parametric are 2-8 % longer
-  than iso-scallop and contour 104-125 % longer.
+  loops 116-121 % longer. On the STEP face parallel planes are within 2 % of iso-scallop
+  (-2.0 % torus, +1.7 % ball), iso-parametric curves 3.5-8.6 % longer and contour loops
+  95-115 % longer.
 - **Verdicts.** One plan of Fountas' part meets h_c at 0.05 mm (the ball's parallel plan;
-  none of the torus's), and one on the STEP face (the torus's contour). Most failures on
-  Fountas' part are at the limit (max 0.022 against 1.1 h_c = 0.022 mm, p99 0.020-0.023
-  against 0.02: two rows flip between 0.1 and 0.05 mm). No plan of Fountas' part gouges
-  beyond the tolerance any more. The torus's iso-scallop and contour plans gouged 0.23 and
-  0.18 mm, and the ball's iso-scallop plan 0.013 mm, until two fixes (6de56b9, cf53957).
-  First, a pass meeting the edge obliquely ran on past it along the straight 3D tangent,
-  over the wedge of part beside it (the iso-scallop plan swept without its run-on moves left
-  no gouge, with them 0.222 mm); the 5-axis run-on now follows the surface's osculating
-  parabola. Second, the contour's spine, a point, had no travel tangent, so its axis stood
-  on the normal; it is now travelled along the zone's feed direction. On the STEP face the
-  p99 is within h_c on every plan but one (iso-scallop ball, 0.050) and the maxima are
-  2.5-4.7 h_c, in the cell rows along the footprint's boundary (0.2-0.6 mm in, along the
-  outer edges and the notch's) on six of the seven failing plans at 0.2 mm, 13.8 mm inside
-  on the ball's contour plan. The torus's iso-parametric plan there also gouges 0.0102 mm at
-  0.05 mm, just over the 0.01 mm tolerance.
+  none of the torus's). Most failures there are at the limit (max 0.022 against 1.1 h_c =
+  0.022 mm, p99 0.020-0.023 against 0.02: two rows flip between 0.1 and 0.05 mm). No plan
+  of Fountas' part gouges beyond the tolerance any more: the torus's iso-scallop and
+  contour plans gouged 0.23 and 0.18 mm, and the ball's iso-scallop plan 0.013 mm, until the
+  5-axis run-on followed the surface's osculating parabola (6de56b9) and the contour's spine
+  was travelled along the zone's feed (cf53957).
+- **The STEP face.** Six of its eight plans meet h_c at 0.05 mm: every ball plan, and the
+  torus's parallel and contour plans (one of eight in the previous table). Its maxima had
+  been 2.5-4.7 h_c in the cell rows along the footprint's edges, and on the ball's contour
+  plan 13.8 mm inside. Three changes closed them: border passes along the edges the passes
+  leave high (`plan/border.py`: the notch's sides, parallel to the feed), the contour's
+  ridge passes where its offsets pinch between the hole and the edges, and iso-scallop
+  corner passes where a swallowtail's cut leaves a corner far from its bend (the torus's
+  iso-scallop plan: 0.133 mm there). What is left: the torus's iso-scallop plan keeps
+  0.064 mm (1.28 h_c) at the hole's edge near (70.4, 34.1) and 0.058-0.059 mm on a diagonal
+  streak near (86-92, 15-20) mm; its iso-parametric plan gouges 0.0102 mm at 0.05 mm, just
+  over the 0.01 mm tolerance (the verdict flips between 0.1 and 0.05 mm).
 - **Lead.** At Fountas' published lead of about 3 deg the torus's effective radius across
   the feed (98.5 mm) exceeds the part's concave radius across it (66-122 mm at three points
   sampled), the spacing formula has no answer and falls back to the cutter's width, and the
