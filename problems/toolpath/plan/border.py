@@ -36,7 +36,7 @@ import numpy as np
 from ..geometry.footprint import footprint_of
 from .batch import PlanBatch, merge_batches
 from .curves import Piece, plan_pieces
-from .strategies.offsets import march
+from .strategies.offsets import march, runs
 
 __all__ = ["BorderLoops", "PairReach", "plan_moves", "covered", "edge_widths", "border_levels", "with_border"]
 
@@ -357,7 +357,7 @@ def with_border(planner, batch: PlanBatch, genes: dict, place: bool) -> PlanBatc
                 uv = uv_k[idx]
                 inside = loops.footprint.contains(uv[:, 0], uv[:, 1]) if k else \
                     np.ones(len(uv), bool)
-                for a, e in _runs(inside):
+                for a, e in runs(inside):
                     if e - a >= 2:
                         pieces_of[i].append(Piece(uv[a:e], np.zeros((e - a, 3)),
                                                   np.zeros(e - a), zone, pass_k + k, alpha))
@@ -383,8 +383,3 @@ def _with_corners(s, p, arc, sample_mm, turn_deg=CORNER_DEG):
     near = np.abs(s[:, None] - corners[None, :]).min(axis=1) < 0.1 * sample_mm
     return np.sort(np.r_[s[~near], corners])
 
-
-def _runs(mask):
-    m = np.r_[False, np.asarray(mask, bool), False]
-    edges = np.flatnonzero(m[1:] != m[:-1])
-    return list(zip(edges[::2], edges[1::2]))

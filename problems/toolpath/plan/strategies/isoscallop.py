@@ -184,12 +184,11 @@ def _corner_passes(surface, layout, z, fp, uv, w, cut, k, alpha, ds):
     """Passes from each corner an untangled swallowtail leaves on the next pass back to the
     bend of this pass ``uv`` it came from (``cut``: [(crossing uv, index of the bend's
     middle in uv)], ``w`` the gaps), where that is farther than ``CORNER_GAPS`` times the
-    gap there. The offsets
-    of a pass bent towards them meet at a corner gap / sin(theta / 2) from the bend (theta
-    the corner's angle), and the middle between is farther from both passes than half a
-    gap: the torus D10 r2 on the sample STEP block left 0.133 mm against h_c 0.05 there.
-    As the contour strategy's corner passes (``contour.corner_segments``), one along the
-    bisector closes it."""
+    gap there. The offsets of a pass bent towards them meet at a corner gap / sin(theta / 2)
+    from the bend (theta the corner's angle), and the middle between is farther from both
+    passes than half a gap: the torus D10 r2 on the sample STEP block left 0.133 mm against
+    h_c 0.05 there. As the contour strategy's corner passes (``contour.corner_segments``),
+    one along the bisector closes it."""
     out = []
     for c, j in cut:
         c = np.clip(c, 0.0, 1.0)
