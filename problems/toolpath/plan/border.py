@@ -277,25 +277,23 @@ def edge_widths(loops: BorderLoops, cutter, h_c: float, vertical: bool) -> np.nd
 
 
 def border_levels(loops: BorderLoops, batch: PlanBatch, w: np.ndarray, reach: PairReach,
-                  widen: np.ndarray) -> np.ndarray:
+                  widen: np.ndarray, offsets: dict | None = None) -> np.ndarray:
     """(n, L) int: how many border passes each loop point needs in plan i, the border
     passes' half-width at h_c there ``w[i]`` (L,). 0: a feed move passes within ``reach``
     of it. k: the edge and k - 1 inward offsets 2 ``COVER`` w apart, until the test point
     just beyond the last one's reach (``BEYOND`` w inside it, so that the pass itself does
     not cover it) is within ``reach`` of the plan's passes or of a border pass already laid
     (at a corner, the other edge's), or ``MAX_LEVELS``. ``widen`` (n,): the points each
-    stretch is widened by."""
+    stretch is widened by; ``offsets``: a dict that keeps the offset loops ((uv, points)
+    per (widths, distance in w)) for the caller."""
     n = batch.n
     moves = [plan_moves(batch, reach.bound)]
     need = (~covered(loops.p, moves[0], reach, n)).astype(np.int64)
     active = need.astype(bool)
-    offsets = {}
+    offsets = {} if offsets is None else offsets
 
     def offset(i, d):  # loop points d w inward for plan i's widths, shared by a tool's rows
-        key = (w[i].tobytes(), d)
-        if key not in offsets:
-            offsets[key] = loops.offset(d * w[i])[1]
-        return offsets[key]
+        return _offset(loops, offsets, w[i], d)[1]
 
     for k in range(1, MAX_LEVELS):
         rows = np.flatnonzero(active.any(axis=1))
@@ -340,7 +338,8 @@ def with_border(planner, batch: PlanBatch, genes: dict, place: bool) -> PlanBatc
     w = np.array([width[int(t)] for t in tool], float)
     reach = PairReach(cutters, tool, planner.h_c, vertical)
     widen = np.array([np.ceil(cutters[int(t)].radius / SAMPLE_MM) for t in tool], np.int64)
-    need = border_levels(loops, batch, w, reach, widen)
+    offsets = {}
+    need = border_levels(loops, batch, w, reach, widen, offsets)
     if not need.any():
         return batch
     last = {}  # per plan: its last section (zone, pass and feed direction of the borders)
@@ -352,7 +351,7 @@ def with_border(planner, batch: PlanBatch, genes: dict, place: bool) -> PlanBatc
         zone, pass_k, alpha = ((int(batch.sec_zone[s]), int(batch.sec_pass[s]) + 1,
                                 float(batch.sec_alpha[s])) if s is not None else (0, 0, 0.0))
         for k in range(int(need[i].max()) - 1, -1, -1):  # the innermost first
-            uv_k, _ = loops.offset(2 * k * COVER * w[i])
+            uv_k = _offset(loops, offsets, w[i], 2 * k * COVER)[0]
             for idx in loops.stretches(need[i] > k, int(widen[i])):
                 uv = uv_k[idx]
                 inside = loops.footprint.contains(uv[:, 0], uv[:, 1]) if k else \
@@ -367,6 +366,15 @@ def with_border(planner, batch: PlanBatch, genes: dict, place: bool) -> PlanBatc
                          place)
     rows = np.arange(n)
     return merge_batches(n, [(rows, batch), (rows, border)])
+
+
+def _offset(loops, offsets, w, d):
+    """(uv, points) of the loops ``d`` w inward (w (L,) one plan's widths), kept in
+    ``offsets`` (plans of one tool share them)."""
+    key = (w.tobytes(), d)
+    if key not in offsets:
+        offsets[key] = loops.offset(d * w)
+    return offsets[key]
 
 
 def _with_corners(s, p, arc, sample_mm, turn_deg=CORNER_DEG):

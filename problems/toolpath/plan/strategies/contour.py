@@ -29,7 +29,7 @@ import numpy as np
 from ...geometry.footprint import footprint_of
 from ..curves import Piece
 from .base import CurveStrategy
-from .offsets import cross_width, pass_frame
+from .offsets import cross_width, pass_frame, side_of
 
 __all__ = ["Contour", "zone_polygon", "contour_loops", "ridge_rings", "spiral"]
 
@@ -323,11 +323,7 @@ def contour_loops(planner, layout, z, cutter, h_c, lead_tilt=None, ds=0.5, max_l
         out.append(_tour(pieces_of(found_rings)[0], surface))
     if corners is not None:
         for k, xy in corner_segments(all_rings, all_steps, ds, region=poly):
-            seg = np.diff(xy, axis=0)
-            side = np.column_stack([-seg[:, 1], seg[:, 0]])
-            side = np.vstack([side, side[-1:]])
-            side /= np.maximum(np.linalg.norm(side, axis=1, keepdims=True), 1e-300)
-            corners.append(Piece(_to_uv(geom, xy), np.column_stack([side, np.zeros(len(xy))]),
+            corners.append(Piece(_to_uv(geom, xy), side_of(xy),
                                  np.zeros(len(xy)), z, len(out) + len(corners),
                                  layout.alpha[z]))
     return out

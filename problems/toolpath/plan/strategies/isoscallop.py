@@ -53,7 +53,7 @@ from ..curves import Piece
 from ..zoning.stepover import ScallopTarget
 from .base import CurveStrategy
 from .offsets import (cross_width, cusp_heights, extend_to_edge, facing_width, march,
-                      pass_frame, resample, runs, untangle, zone_mask)
+                      pass_frame, resample, runs, side_of, untangle, zone_mask)
 
 __all__ = ["IsoScallop", "zone_passes"]
 
@@ -206,12 +206,8 @@ def _corner_passes(surface, layout, z, fp, uv, w, cut, k, alpha, ds):
             if e - a < 2:
                 continue
             xy = surface.jet(line[a:e, 0], line[a:e, 1], order=0).p[:, :2]
-            seg = np.diff(xy, axis=0)
-            side = np.column_stack([-seg[:, 1], seg[:, 0]])
-            side = np.vstack([side, side[-1:]])
-            side /= np.maximum(np.linalg.norm(side, axis=1, keepdims=True), 1e-300)
-            out.append(Piece(line[a:e], np.column_stack([side, np.zeros(e - a)]),
-                             np.zeros(e - a), z, k + 1, alpha, (False, False)))
+            out.append(Piece(line[a:e], side_of(xy), np.zeros(e - a), z, k + 1, alpha,
+                             (False, False)))
     return out
 
 

@@ -200,6 +200,17 @@ def untangle(uv, eps: float = 1e-12, crossings: list | None = None):
     return np.asarray(out)
 
 
+def side_of(xy):
+    """(M, 3) the unit horizontal directions to the left of the XY polyline ``xy`` (M, 2),
+    the last segment's at the last point: the cross-feed of a pass cut along it (corner
+    passes, which no scallop is measured against)."""
+    seg = np.diff(xy, axis=0)
+    side = np.column_stack([-seg[:, 1], seg[:, 0]])
+    side = np.vstack([side, side[-1:]])
+    side /= np.maximum(np.linalg.norm(side, axis=1, keepdims=True), 1e-300)
+    return np.column_stack([side, np.zeros(len(xy))])
+
+
 def runs(mask):
     """[(a, b)]: the maximal stretches mask[a:b] that are True."""
     m = np.r_[False, np.asarray(mask, bool), False]
