@@ -93,6 +93,11 @@ def test_a_torus_s_passes_cover_the_edges_they_cross(top):
     assert plain < _on_part_length(bordered) < 1.05 * plain
     border = bordered.p[bordered.sec_start[-1]:]  # the last border section
     assert np.ptp(border[:, 0]) > 5.0
+    # every border point lies along the notch's sides, none on the edges the passes cross
+    k = len(_planner(top, "parallel", False, torus).plan(GENES).p)
+    xy = bordered.p[k:, :2]
+    assert len(xy) and np.all((xy[:, 0] < 33.0) & ((np.abs(xy[:, 1] - 30.0) < 3.0)
+                                                   | (np.abs(xy[:, 1] - 50.0) < 3.0)))
 
 
 def test_whole_footprints_and_plans_without_h_c_are_returned_as_they_are(top):

@@ -177,20 +177,26 @@ def _tour(pieces, surface):
     return out
 
 
-def _beyond_reach(gap, reach, margin: float = 1.02) -> bool:
-    """Whether some vertex of the ``gap`` polygon lies farther from its nearest loop point
-    than ``margin`` times that point's own reach (``reach``: [(xy (m, 2), half-width (m,))]
-    per ring of a level: half the spacing that leaves h_c there). The offsets are spaced by
-    their worst point, so most of a loop reaches beyond half the step; a gap that every
-    loop point beside it reaches is no gap."""
+def _reach_of(reach):
+    """(tree over the loop points, their half-widths) of ``reach`` ([(xy (m, 2), half-width
+    (m,))] per ring of a level: half the spacing that leaves h_c there), or None."""
     if not reach:
-        return True
+        return None
     from scipy.spatial import cKDTree
 
-    xy = np.concatenate([r[0] for r in reach])
-    half = np.concatenate([r[1] for r in reach])
-    q = np.asarray(gap.exterior.coords)
-    d, j = cKDTree(xy).query(q)
+    return (cKDTree(np.concatenate([r[0] for r in reach])),
+            np.concatenate([r[1] for r in reach]))
+
+
+def _beyond_reach(gap, reach, margin: float = 1.02) -> bool:
+    """Whether some vertex of the ``gap`` polygon lies farther from its nearest loop point
+    than ``margin`` times that point's own reach (``reach``: :func:`_reach_of`). The offsets
+    are spaced by their worst point, so most of a loop reaches beyond half the step; a gap
+    that every loop point beside it reaches is no gap."""
+    if reach is None:
+        return True
+    tree, half = reach
+    d, j = tree.query(np.asarray(gap.exterior.coords))
     return bool(np.any(d > margin * half[j]))
 
 
@@ -305,8 +311,10 @@ def contour_loops(planner, layout, z, cutter, h_c, lead_tilt=None, ds=0.5, max_l
             # configured): not ridges
             served = np.concatenate([_corners(r) for r, outer in rings_of(last_parts) if outer]
                                     + [np.zeros((0, 2))])
-            gaps = [g for g in ridge_rings(last_region, region, dist - prev, lost, served)
-                    if _beyond_reach(g, last_reach) and _beyond_reach(g, loop_reach)]
+            gaps = ridge_rings(last_region, region, dist - prev, lost, served)
+            if gaps:  # the two levels' loop points, searched once for all the gaps
+                here, there = _reach_of(last_reach), _reach_of(loop_reach)
+                gaps = [g for g in gaps if _beyond_reach(g, here) and _beyond_reach(g, there)]
             found_rings += rings_of(gaps)
             end = keep
         step = max(min(steps), 1e-3)
