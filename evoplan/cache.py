@@ -247,6 +247,15 @@ class EvaluationCache:
         f[known] = self.values[slot[known]]
         return keys, f, first
 
+    def pending(self, G: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """:meth:`lookup` and the rows left to evaluate, ``isnan(f) & (first == arange(n))``:
+        ``(keys, f, first, todo)``, in one compiled pass where the compiled table serves."""
+        if (self.width and G.dtype == bool and G.ndim == 2 and G.shape[1] == self._exponents.size
+                and hasattr(self._index, "pending_rows")):
+            return self._index.pending_rows(np.ascontiguousarray(G), self._exponents, self.values)
+        keys, f, first = self.lookup(G)
+        return keys, f, first, np.flatnonzero(np.isnan(f) & (first == np.arange(len(f))))
+
     def store(self, keys: np.ndarray, f: np.ndarray, fresh: bool = False) -> None:
         """Add the keys ``keys`` (from :meth:`lookup`) with values ``f``, in order.
 
@@ -257,6 +266,11 @@ class EvaluationCache:
         if self.size == 0 or keys.size == 0:
             return
         f = np.asarray(f, dtype=float)
+        if fresh and keys.size <= self.size and hasattr(self._index, "store_fresh"):
+            self._reserve(min(self.size, len(self._index) + keys.size))
+            self.next = self._index.store_fresh(
+                _as_int64(self.codes), self.values, _as_int64(keys), f, self.next, self.size)
+            return
         keep = np.isfinite(f)
         if not fresh:
             slot, first = self._index.lookup(index_keys(keys))
@@ -316,6 +330,11 @@ class EvaluationCache:
 
     def __setstate__(self, data: dict[str, Any]) -> None:
         self.__dict__.update(EvaluationCache.from_data(data).__dict__)
+
+
+def _as_int64(keys: np.ndarray) -> np.ndarray:
+    """``int64`` or ``uint64`` keys as ``int64`` (a view: what the compiled table holds)."""
+    return keys if keys.dtype == np.int64 else keys.view(np.int64)
 
 
 def _compiled_from(index: DictIndex, expected: int):

@@ -1,11 +1,14 @@
 """When the core's compiled (numba) kernels pay for themselves in a process.
 
-The core's two hot loops have a compiled form and a numpy form that give the same numbers
-bit for bit: the evaluation cache's key index (``key_index.py`` against a ``dict``) and VEGA's
-infection round (``operators/viral_kernels.py`` against ``operators/viral_outcome.py``'s
-matrix form). The compiled forms are faster per row, but a process pays once to load numba
-and dispatch them: 1.0-1.1 s of CPU on the 2-core host (numba's import 0.3-0.4 s, the first
-dispatch of a cached function 0.6 s). Measured in fresh processes (GA on Kubota's function,
+The core's hot loops have a compiled form and a numpy form that give the same numbers
+bit for bit: the evaluation cache's key index (``key_index.py`` against a ``dict``; a batch's
+look-up with its known values and rows to evaluate, and its store, one pass each), the GA's
+breeding of children from their parents (``operators/breeding_kernels.py`` against the
+crossover and mutation operators' masks) and VEGA's infection round
+(``operators/viral_kernels.py`` against ``operators/viral_outcome.py``'s matrix form). The
+compiled forms are faster per row, but a process pays once to load numba and dispatch them:
+1.0-1.1 s of CPU on the 2-core host (numba's import 0.3-0.4 s, the first dispatch of a cached
+function 0.6 s). Measured in fresh processes (GA on Kubota's function,
 a 100 000-entry cache, CPU seconds of the whole process): 200 x 200 generations take 0.11 s
 of run in numpy, a tenth of the load; 200 x 10 000 (2 M rows) 6.16 s numpy against 6.40 s
 compiled; 200 x 20 000 (4 M rows) 9.7-10.0 s against 7.7-9.0 s.
@@ -15,7 +18,7 @@ compiled; 200 x 20 000 (4 M rows) 9.7-10.0 s against 7.7-9.0 s.
 - numba already loaded (a toolpath problem's kernels, or an earlier long run): compiled, as
   the load is paid;
 - else numpy, until the process has put :data:`SWITCH_ROWS` rows through these loops (the
-  cache's rows, and VEGA's infections too); then compiled. That is about the break-even
+  cache's rows, the children bred, and VEGA's infections too); then compiled. That is about the break-even
   above, so a run never pays much more than twice what the better choice in hindsight would
   have cost (the ski-rental rule).
 

@@ -214,10 +214,8 @@ def lookup(state: RunState, G: np.ndarray) -> Pending:
     n = len(G)
     cache = state.cache
     if cache is None:
-        keys, f, first = None, np.full(n, np.nan), np.arange(n)
-    else:
-        keys, f, first = cache.lookup(G)
-    return Pending(G, keys, f, first, np.flatnonzero(np.isnan(f) & (first == np.arange(n))))
+        return Pending(G, None, np.full(n, np.nan), np.arange(n), np.arange(n))
+    return Pending(G, *cache.pending(G))
 
 
 def settle(state: RunState, pending: Pending, result: Evaluation | None) -> np.ndarray:

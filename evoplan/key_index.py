@@ -138,6 +138,43 @@ def _lookup_rows(tkeys, tslots, shift, G, exponents):
 
 
 @numba.njit(cache=True)
+def _pending_rows(tkeys, tslots, shift, G, exponents, values):
+    """:func:`_lookup_rows` with the known values ``values[slot]`` (NaN where absent) and the
+    rows left to evaluate (absent first occurrences), in the same pass."""
+    codes, slot, first = _lookup_rows(tkeys, tslots, shift, G, exponents)
+    n = codes.size
+    f = np.empty(n)
+    todo = np.empty(n, dtype=np.int64)
+    t = 0
+    for k in range(n):
+        if slot[k] != EMPTY:
+            f[k] = values[slot[k]]
+        else:
+            f[k] = np.nan
+            if first[k] == k:
+                todo[t] = k
+                t += 1
+    return codes, f, first, todo[:t]
+
+
+@numba.njit(cache=True)
+def _store_fresh(tkeys, tslots, shift, codes, values, keys, f, start, filled, size):
+    """Store the new, distinct ``keys`` with finite values ``f`` in the ring of slots
+    ``codes, values`` from slot ``start`` on, each dropping the entry of a slot below
+    ``filled`` (in use) first; returns ``(next slot, change in the entry count)``."""
+    nxt, change = start, 0
+    for k in range(keys.size):
+        if not np.isfinite(f[k]):
+            continue
+        if nxt < filled:
+            change -= _remove(tkeys, tslots, shift, codes[nxt])
+        codes[nxt], values[nxt] = keys[k], f[k]
+        change += _put(tkeys, tslots, shift, keys[k], nxt)
+        nxt = (nxt + 1) % size
+    return nxt, change
+
+
+@numba.njit(cache=True)
 def _rehash(keys, slots, tkeys, tslots, shift):
     """Insert the used entries of ``(keys, slots)`` into the empty table ``(tkeys, tslots)``."""
     for k in range(keys.size):
@@ -177,6 +214,23 @@ class KeyIndex:
         """``(codes, slot, first)`` of boolean rows ``G: (n, L)`` keyed by their codes
         ``sum_j G[i, j] 2 ** exponents[j]`` (``exponents`` distinct, below 63): one pass."""
         return _lookup_rows(self.keys, self.slots, self.shift, G.view(np.uint8), exponents)
+
+    def pending_rows(self, G: np.ndarray, exponents: np.ndarray, values: np.ndarray):
+        """``(codes, f, first, todo)``: :meth:`lookup_rows` with each row's value ``values[slot]``
+        (NaN where absent) and the absent first occurrences ``todo``, in one pass."""
+        return _pending_rows(self.keys, self.slots, self.shift, G.view(np.uint8), exponents, values)
+
+    def store_fresh(self, codes: np.ndarray, values: np.ndarray, keys: np.ndarray, f: np.ndarray,
+                    start: int, size: int) -> int:
+        """Store keys absent from the index and distinct (at most ``size``) with their finite
+        values in the ring ``codes, values`` (``int64`` and float, ``size`` slots at most, in use
+        below ``len(self)``) from slot ``start``, dropping the entries they replace; returns the
+        next slot."""
+        self._room(self.count + keys.size)
+        nxt, change = _store_fresh(self.keys, self.slots, self.shift, codes, values, keys, f,
+                                   start, self.count, size)
+        self.count += int(change)
+        return int(nxt)
 
     def update(self, keys: np.ndarray, slots: np.ndarray) -> None:
         """Set ``keys[i] -> slots[i]`` in order (a later repeat overwrites)."""

@@ -18,6 +18,8 @@ that the numbers are those of Eq. 10. Failed evaluations (``inf``/``nan``) rank 
 
 from __future__ import annotations
 
+from functools import lru_cache
+
 import numpy as np
 
 
@@ -52,7 +54,25 @@ def exponential_fitness(
 ) -> np.ndarray:
     """Fountas Eq. 10 on normalized objective values: ``(n,) -> (n,)`` positive, larger is fitter.
 
-    ``order``: as for :func:`normalize` (every value finite, sorted stably)."""
+    ``order``: as for :func:`normalize` (every value finite, sorted stably). With ``order``
+    and ranks, the factor ``exp(-v**2)`` of each rank comes from :func:`rank_factors` (the
+    same numbers, computed once per population size)."""
+    f = np.asarray(f, dtype=float)
+    if order is not None and method == "rank" and f.size > 1:
+        fitsum = float(np.abs(f).sum())
+        out = np.empty(f.size)
+        out[order] = (fitsum if fitsum > 0 else 1.0) * rank_factors(f.size, float(pressure))
+        return out
     v = normalize(f, method, order) * pressure
     fitsum = float(np.abs(f).sum() if order is not None else np.abs(f[np.isfinite(f)]).sum())
     return (fitsum if fitsum > 0 else 1.0) * np.exp(-(v * v))
+
+
+@lru_cache(maxsize=16)
+def rank_factors(n: int, pressure: float) -> np.ndarray:
+    """Eq. 10's ``exp(-v**2)`` for the ranks ``0 .. n - 1``, ``v = rank / (n - 1) * pressure``
+    as :func:`normalize` and :func:`exponential_fitness` compute it (read-only, memoized)."""
+    v = np.arange(n, dtype=np.float64) / (n - 1) * pressure
+    out = np.exp(-(v * v))
+    out.setflags(write=False)
+    return out

@@ -13,6 +13,7 @@ import numpy as np
 from pydantic import AliasChoices, BaseModel, ConfigDict, Field, model_validator
 
 from ..operators import crossover, elitism, fitness, mutation, selection
+from ..operators.breeding import breed
 from .base import Algorithm
 
 
@@ -66,8 +67,9 @@ class GAConfig(_Strict):
         return self
 
 
-CROSSOVERS = {"single_point": crossover.single_point, "two_point": crossover.two_point}
-MUTATIONS = {"single_point": mutation.single_point, "per_bit": mutation.per_bit}
+# what each kind draws (crossover: one segment a pair; mutation: the flips of each child)
+CROSSOVERS = {"single_point": crossover.single_point_segments, "two_point": crossover.two_point_segments}
+MUTATIONS = {"single_point": mutation.single_point_loci, "per_bit": mutation.per_bit_mask}
 
 
 class GA(Algorithm):
@@ -98,11 +100,10 @@ class GA(Algorithm):
         n_children = cfg.population - cfg.elitism
         n_pairs = (n_children + 1) // 2
         parents = self.select(self.scaled_fitness(self.f, order), 2 * n_pairs)
-        a, b = CROSSOVERS[cfg.crossover.kind](
-            self.G[parents[:n_pairs]], self.G[parents[n_pairs:]], cfg.crossover.rate, self.rng
-        )
-        children = np.concatenate([a, b])[:n_children]
-        return MUTATIONS[cfg.mutation.kind](children, cfg.mutation.rate, self.rng)
+        L = self.G.shape[1]
+        lo, hi = CROSSOVERS[cfg.crossover.kind](n_pairs, L, cfg.crossover.rate, self.rng)
+        flips = MUTATIONS[cfg.mutation.kind](n_children, L, cfg.mutation.rate, self.rng)
+        return breed(self.G, parents[:n_pairs], parents[n_pairs:], lo, hi, flips, n_children)
 
     # -- ask / tell ----------------------------------------------------------------------------
     def ask(self) -> np.ndarray:

@@ -10,7 +10,7 @@ run engine (`evoplan.runner.prepare` + `evoplan.engine.run`, the evaluation cach
 rounds and the ratios are medians of the per-round ratios of process CPU time (the host may
 be shared: CPU time is less disturbed by other processes than wall time).
 
-evoplan's cache index and VEGA's infection round each have a numpy and a compiled form
+evoplan's cache index, the GA's breeding pass and VEGA's infection round each have a numpy and a compiled form
 (``evoplan/compiled.py`` says which a run takes): ``--compiled both`` (the default) times
 each of GA and VEGA in both forms in the same rounds, and prints beside them what loading
 numba and dispatching the compiled forms costs once, in a fresh interpreter.
@@ -114,6 +114,9 @@ cache.store(keys, np.zeros(50))
 v, h = np.array([0, 1]), np.array([3, 4])
 trials, changed = infect_pairs(G, h, v, np.array([0, 2]), np.array([3, 3]), G[:2].copy())
 infection_outcome(v, h, changed, np.zeros(2), np.zeros(50), 2, True)
+keys, f, first, todo = cache.pending(G)
+from evoplan.operators.breeding import breed
+breed(G, v, h, np.array([3, 46]), np.array([46, 46]), np.array([1, -1, 5]), 3)
 print(time.process_time() - t0)
 """
 
