@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from evoplan import compiled
-from evoplan.operators import breeding, crossover, fitness, mutation, selection
+from evoplan.operators import breeding, crossover, fitness, mutation
 from evoplan.operators.breeding_kernels import breed_pairs
 
 
@@ -59,4 +59,3 @@ def test_rank_factors_give_eq10_as_computed_from_the_ranks(n):
         assert np.array_equal(fitness.exponential_fitness(f, "rank", 2.0), expected)
     with pytest.raises(ValueError):
         fitness.rank_factors(n, 2.0)[0] = 1.0  # the memoized table is read-only
-    assert selection.roulette(expected, 10, rng).shape == (10,)
