@@ -13,16 +13,22 @@ def breed_pairs(G, a, b, lo, hi, loci, n_children):
     flips locus ``loci[k]`` (none where -1)."""
     m, L = a.size, G.shape[1]
     out = np.empty((n_children, L), dtype=np.bool_)
-    for i in range(m):
+    for i in range(m):  # three plain copies a child: 38 us for 2000 x 46 loci, 55 us testing each locus
         pa, pb, s, e = a[i], b[i], lo[i], hi[i]
-        for j in range(L):
-            inside = s <= j < e
-            out[i, j] = G[pb, j] if inside else G[pa, j]
+        for j in range(s):
+            out[i, j] = G[pa, j]
+        for j in range(s, e):
+            out[i, j] = G[pb, j]
+        for j in range(e, L):
+            out[i, j] = G[pa, j]
         if m + i < n_children:
             k = m + i
-            for j in range(L):
-                inside = s <= j < e
-                out[k, j] = G[pa, j] if inside else G[pb, j]
+            for j in range(s):
+                out[k, j] = G[pb, j]
+            for j in range(s, e):
+                out[k, j] = G[pa, j]
+            for j in range(e, L):
+                out[k, j] = G[pb, j]
     for k in range(n_children):
         if loci[k] >= 0:
             out[k, loci[k]] = not out[k, loci[k]]
