@@ -23,17 +23,10 @@ from functools import lru_cache
 import numpy as np
 
 
-def normalize(f: np.ndarray, method: str = "rank", order: np.ndarray | None = None) -> np.ndarray:
-    """Objective values ``f: (n,)`` (minimized) to ``[0, 1]``, 0 for the best; non-finite -> 1.
-
-    ``order``: ``np.argsort(f, kind="stable")`` when the caller has it and every value is
-    finite (the rank method then sorts no more)."""
+def normalize(f: np.ndarray, method: str = "rank") -> np.ndarray:
+    """Objective values ``f: (n,)`` (minimized) to ``[0, 1]``, 0 for the best; non-finite -> 1."""
     f = np.asarray(f, dtype=float)
     n = f.size
-    if order is not None and method == "rank" and n > 1:
-        ranks = np.empty(n)
-        ranks[order] = np.arange(n)
-        return ranks / (n - 1)
     finite = np.isfinite(f)
     all_finite = bool(finite.all())
     if n <= 1 or not finite.any():
@@ -54,16 +47,17 @@ def exponential_fitness(
 ) -> np.ndarray:
     """Fountas Eq. 10 on normalized objective values: ``(n,) -> (n,)`` positive, larger is fitter.
 
-    ``order``: as for :func:`normalize` (every value finite, sorted stably). With ``order``
-    and ranks, the factor ``exp(-v**2)`` of each rank comes from :func:`rank_factors` (the
-    same numbers, computed once per population size)."""
+    ``order``: ``np.argsort(f, kind="stable")`` when the caller has it and every value is
+    finite. With ``order`` and ranks, the factor ``exp(-v**2)`` of each rank comes from
+    :func:`rank_factors` (the same numbers, computed once per population size), and nothing
+    is sorted again."""
     f = np.asarray(f, dtype=float)
     if order is not None and method == "rank" and f.size > 1:
         fitsum = float(np.abs(f).sum())
         out = np.empty(f.size)
         out[order] = (fitsum if fitsum > 0 else 1.0) * rank_factors(f.size, float(pressure))
         return out
-    v = normalize(f, method, order) * pressure
+    v = normalize(f, method) * pressure
     fitsum = float(np.abs(f).sum() if order is not None else np.abs(f[np.isfinite(f)]).sum())
     return (fitsum if fitsum > 0 else 1.0) * np.exp(-(v * v))
 

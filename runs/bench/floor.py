@@ -10,10 +10,10 @@ run engine (`evoplan.runner.prepare` + `evoplan.engine.run`, the evaluation cach
 rounds and the ratios are medians of the per-round ratios of process CPU time (the host may
 be shared: CPU time is less disturbed by other processes than wall time).
 
-evoplan's cache index, the GA's breeding pass and VEGA's infection round each have a numpy and a compiled form
-(``evoplan/compiled.py`` says which a run takes): ``--compiled both`` (the default) times
-each of GA and VEGA in both forms in the same rounds, and prints beside them what loading
-numba and dispatching the compiled forms costs once, in a fresh interpreter.
+evoplan's cache index, the GA's breeding pass and VEGA's infection round each have a numpy
+and a compiled form (``evoplan/compiled.py`` says which a run takes): ``--compiled both``
+(the default) times each of GA and VEGA in both forms in the same rounds, and prints beside
+them what loading numba and dispatching the compiled forms costs once, in a fresh interpreter.
 
     python runs/bench/floor.py [--repeat 7] [--sizes 200x200,2000x40] [--compiled both|always|never]
 

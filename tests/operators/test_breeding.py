@@ -29,22 +29,58 @@ def test_compiled_children_equal_the_numpy_operators(segments, n, L, n_children)
             compiled.set_mode(previous)
 
 
-def test_drawn_operators_give_the_children_of_the_whole_operators():
-    """Drawing segments and loci, then applying them, is the operators' own stream and result."""
-    G = np.random.default_rng(0).random((40, 23)) < 0.5
-    A, B = G[:20], G[20:]
-    for op, segments in ((crossover.single_point, crossover.single_point_segments),
-                         (crossover.two_point, crossover.two_point_segments)):
-        whole = op(A, B, 0.8, np.random.default_rng(3))
-        rng = np.random.default_rng(3)
-        drawn = crossover.swap_segments(A, B, *segments(20, 23, 0.8, rng))
-        assert all(np.array_equal(x, y) for x, y in zip(whole, drawn))
-        # a pair that does not cross swaps nothing
-        lo, hi = segments(20, 23, 0.0, np.random.default_rng(3))
-        assert (lo == 23).all()
-    loci = mutation.single_point_loci(40, 23, 0.5, np.random.default_rng(4))
-    assert np.array_equal(mutation.single_point(G, 0.5, np.random.default_rng(4)), mutation.flip(G, loci))
-    assert ((mutation.flip(G, loci) != G).sum(axis=1) == (loci >= 0)).all()
+def former_single_point(A, B, rate, rng):
+    """Single-point crossover as it was written before the draws were split off (reference)."""
+    m, L = A.shape
+    cut = rng.integers(1, L, m) if L > 1 else np.full(m, L)
+    cross = rng.random(m) < rate
+    mask = (np.arange(L) >= cut[:, None]) & cross[:, None]
+    return np.where(mask, B, A), np.where(mask, A, B)
+
+
+def former_two_point(A, B, rate, rng):
+    m, L = A.shape
+    if L < 3:
+        return former_single_point(A, B, rate, rng)
+    c = np.sort(np.stack([rng.integers(1, L, m), rng.integers(1, L, m)], axis=1), axis=1)
+    c[:, 1] = np.where(c[:, 0] == c[:, 1], L, c[:, 1])
+    cross = rng.random(m) < rate
+    pos = np.arange(L)
+    mask = (pos >= c[:, :1]) & (pos < c[:, 1:]) & cross[:, None]
+    return np.where(mask, B, A), np.where(mask, A, B)
+
+
+def former_single_point_mutation(G, rate, rng):
+    n, L = G.shape
+    out = G.copy()
+    hit = np.flatnonzero(rng.random(n) < rate)
+    out[hit, rng.integers(0, L, n)[hit]] ^= True
+    return out
+
+
+@pytest.mark.parametrize("L", [1, 2, 3, 23, 46])
+def test_drawn_operators_give_the_former_operators_children_and_stream(L):
+    """Drawing segments and loci, then applying them, takes the generator's numbers in the
+    former operators' order and gives their children."""
+    for seed in range(10):
+        G = np.random.default_rng(seed).random((40, L)) < 0.5
+        A, B = G[:20], G[20:]
+        for rate in (0.0, 0.8, 1.0):
+            for former, segments in ((former_single_point, crossover.single_point_segments),
+                                     (former_two_point, crossover.two_point_segments)):
+                old_rng, rng = np.random.default_rng(seed), np.random.default_rng(seed)
+                expected = former(A, B, rate, old_rng)
+                drawn = crossover.swap_segments(A, B, *segments(20, L, rate, rng))
+                assert all(np.array_equal(x, y) for x, y in zip(expected, drawn))
+                assert old_rng.random() == rng.random()  # the same numbers drawn
+            old_rng, rng = np.random.default_rng(seed), np.random.default_rng(seed)
+            expected = former_single_point_mutation(G, rate, old_rng)
+            loci = mutation.single_point_loci(40, L, rate, rng)
+            assert np.array_equal(mutation.flip(G, loci), expected)
+            assert old_rng.random() == rng.random()
+            assert ((mutation.flip(G, loci) != G).sum(axis=1) == (loci >= 0)).all()
+        lo, hi = crossover.single_point_segments(20, L, 0.0, np.random.default_rng(seed))
+        assert (lo == L).all()  # a pair that does not cross swaps nothing
 
 
 @pytest.mark.parametrize("n", [2, 3, 200, 2001])
