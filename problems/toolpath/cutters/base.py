@@ -37,24 +37,11 @@ import numpy as np
 from ..checks import number
 from .effective_radius import effective_radius, effective_radius_3axis, effective_radius_lead_tilt
 from .drop import drop_cutter
+from .profile_kernel import CONE, CYLINDER, PIECE, ROUND
 from .silhouette import support_profile_tables, support_side_width
 
 __all__ = ["CONE", "CYLINDER", "PIECE", "ROUND", "Cutter", "CUTTERS", "register", "make_cutter", "cutter_from_tool", "cutter_names",
            "cutter_from_apt", "cutter_from_dict"]
-
-#: the layout of a cutter's kernel array (:meth:`Cutter.kernel_params`, which the cut
-#: simulation's ``kernel.py`` reads): [R, n, then n pieces of PIECE slots each: code, then
-#: its parameters]; R the outer radius (every piece lies within it), the pieces convex
-#: solids of revolution whose union is the cutter
-PIECE = 6
-#: the shank or a flat end: {rho <= R, w >= w_lo}; parameters (w_lo)
-CYLINDER = 1
-#: points within q of the disc of radius e at height c: (e, c, q); a sphere for e = 0 (the
-#: ball), the flat bottom and corner torus of a toroidal cutter for e > 0
-ROUND = 2
-#: a cone frustum {rho <= (w - w_a) tan beta, w_lo <= w <= w_hi}: (w_a, sin beta,
-#: cos beta, w_lo, w_hi) (the taper of a tapered cutter)
-CONE = 3
 
 
 CUTTERS: dict[str, type["Cutter"]] = {}

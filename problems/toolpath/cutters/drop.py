@@ -14,7 +14,8 @@ square whose XY lies in the cutter's disk. Its maximum lies at one of:
 A. a stationary point of f inside D, on a patch edge, or at a patch corner: projected
    Newton in (u, v) (bounds as an active set, the Hessian shifted to be definite,
    a monotone backtracking line search), seeded at the best grid points of the disk (the
-   best overall and the best of each quadrant within a slack of it);
+   best overall and the best of each quadrant within a slack of it: ``drop_seeds.py``, one
+   compiled pass over the queries);
 B. the highest point of z on the rim circle |xy - c| = R (the flat-end's rim contact):
    samples about one grid spacing apart on the circle, through the inverse map
    XY -> (u, v), then a golden-section search around the best;
@@ -33,11 +34,10 @@ nearest the axis; -inf when nothing is touched.
 
 from __future__ import annotations
 
-from itertools import chain
-
 import numpy as np
 
 from .drop_rim import edge_candidates, group_argmax, rim_candidates
+from .drop_seeds import drop_seeds
 from .surface_grid import surface_grid
 
 __all__ = ["drop_cutter"]
@@ -114,38 +114,6 @@ def _newton(cutter, surface, uv, c, iterations):
     return uv, _f(cutter, surface, uv, c)[0]
 
 
-def _seeds(cutter, grid, xy):
-    """Grid indices (k, 5) of the best point per query, and of the best per quadrant when
-    within a slack of it (-1: none)."""
-    big = cutter.radius
-    lists = grid.tree.query_ball_point(xy, big)
-    counts = np.fromiter(map(len, lists), np.int64, len(lists))
-    k = len(xy)
-    if counts.sum() == 0:
-        return np.full((k, 5), -1)
-    idx = np.fromiter(chain.from_iterable(lists), np.int64, int(counts.sum()))
-    q = np.repeat(np.arange(k), counts)
-    d = grid.xy[idx] - xy[q]
-    s = 0.5 * np.einsum("ij,ij->i", d, d)
-    f = grid.z[idx] - cutter.height_jet(s)[0]
-    best = group_argmax(q, f, k)
-    quad = (d[:, 0] >= 0).astype(np.int64) + 2 * (d[:, 1] >= 0)
-    per_quad = np.full((k, 4), -1, np.int64)
-    for j in range(4):  # masks keep q sorted: the linear-time grouping
-        sel = np.flatnonzero(quad == j)
-        if len(sel) == 0:  # no grid point in this quadrant of any disk (off a corner)
-            continue
-        arg = group_argmax(q[sel], f[sel], k)
-        per_quad[:, j] = np.where(arg >= 0, sel[np.maximum(arg, 0)], -1)
-    best_f = np.where(best >= 0, f[np.maximum(best, 0)], -np.inf)
-    slack = 0.1 * big
-    quad_f = np.where(per_quad >= 0, f[np.maximum(per_quad, 0)], -np.inf)
-    per_quad = np.where(quad_f >= best_f[:, None] - slack, per_quad, -1)
-    cols = np.concatenate([best[:, None], per_quad], 1)
-    seeds = np.where(cols >= 0, idx[np.maximum(cols, 0)], -1)
-    return seeds
-
-
 def drop_cutter(cutter, surface, xy, return_contact: bool = False, spacing: float | None = None,
                 iterations: int = 40, chunk: int = 2048):
     """Tip z (k,) of the vertical ``cutter`` dropped on ``surface`` at XY (k, 2) (module doc).
@@ -166,7 +134,7 @@ def drop_cutter(cutter, surface, xy, return_contact: bool = False, spacing: floa
     for start in range(0, len(xy), chunk):
         c = xy[start:start + chunk]
         k = len(c)
-        seeds = _seeds(cutter, grid, c)
+        seeds = drop_seeds(cutter, grid, c)
         cand_val, cand_uv = [np.full(k, -np.inf)], [np.full((k, 2), np.nan)]
         qa, sa = np.nonzero(seeds >= 0)
         key = seeds[qa, sa]

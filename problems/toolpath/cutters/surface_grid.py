@@ -1,8 +1,9 @@
 """A dense (u, v) grid of a surface with an XY KD-tree, and the inverse map XY -> (u, v).
 
 The drop-cutter (``drop.py``) needs, for a tool at XY, the surface points within its radius
-(a KD-tree over the XY of a dense parameter grid, boundary rows included so that the patch
-edges are sampled) and the patch boundary as XY segments (where the cutter's rim crosses
+(the XY of a dense parameter grid, boundary rows included so that the patch edges are
+sampled, bucketed into XY cells for the seeds and in a KD-tree for nearest points) and the
+patch boundary as XY segments (where the cutter's rim crosses
 an edge). Grids are cached per surface and spacing (weakly: they go with the surface). On
 a trimmed face (``surface.footprint``) only the points inside its loops are kept and the
 boundary segments run along the loops, holes included: a tool over a hole drops past it.
@@ -21,6 +22,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from ..geometry.footprint import footprint_of
+from .drop_seeds import Buckets, bucket_points
 
 __all__ = ["SurfaceGrid", "surface_grid", "uv_at_xy"]
 
@@ -31,7 +33,8 @@ _CACHE: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
 class SurfaceGrid:
     """Grid points (N,): u, v, xy (N, 2), z; ``tree`` over xy; boundary segments (S,) with
     end parameters ``seg_uv`` (S, 2, 2), end XY ``seg_xy`` (S, 2, 2) and a tree over their
-    midpoints; ``spacing`` the largest XY step between neighbours (mm)."""
+    midpoints; ``spacing`` the largest XY step between neighbours (mm); ``buckets`` the
+    points in XY cells of four steps (the drop-cutter's seeds)."""
 
     u: np.ndarray
     v: np.ndarray
@@ -43,6 +46,7 @@ class SurfaceGrid:
     seg_tree: cKDTree
     seg_reach: float
     spacing: float
+    buckets: Buckets
 
 
 def _iso_lengths(surface) -> tuple[float, float]:
@@ -89,7 +93,8 @@ def surface_grid(surface, spacing: float = 0.25, max_per_axis: int = 2000) -> Su
         seg_xy = surface.jet(flat[:, 0], flat[:, 1], order=0).p[:, :2].reshape(-1, 2, 2)
     half = 0.5 * np.linalg.norm(seg_xy[:, 1] - seg_xy[:, 0], axis=-1)
     grid = SurfaceGrid(uu, vv, xy, z, cKDTree(xy), seg_uv, seg_xy,
-                       cKDTree(seg_xy.mean(axis=1)), float(half.max()), float(step))
+                       cKDTree(seg_xy.mean(axis=1)), float(half.max()), float(step),
+                       bucket_points(xy, max(4.0 * float(step), 1e-9)))
     per[key] = grid
     return grid
 

@@ -37,6 +37,7 @@ import numpy as np
 from numba import njit
 
 from ..cutters.base import CONE, CYLINDER, PIECE, ROUND
+from ..cutters.profile_kernel import piece_height  # noqa: F401 (the sweep's bounds use it)
 
 INF = np.inf
 #: a ray that misses a pose scores MISS + its distance outside the cutter's radius, so that a
@@ -44,32 +45,6 @@ INF = np.inf
 #: rim is only in reach over a short stretch); any score above MISS / 2 is a miss
 MISS = 1e6
 _GOLD = 0.5 * (math.sqrt(5.0) - 1.0)
-
-
-@njit(cache=True, nogil=True, error_model="numpy")
-def piece_height(rho, prm):
-    """h(rho): the lower profile of the cutter (the lowest w of its pieces) at radial distance
-    rho from the axis; inf beyond the radius (or where no piece reaches)."""
-    if rho > prm[0]:
-        return INF
-    h = INF
-    for k in range(int(prm[1])):
-        b = 2 + PIECE * k
-        code = prm[b]
-        if code == CYLINDER:
-            h = min(h, prm[b + 1])
-        elif code == ROUND:
-            e, c, q = prm[b + 1], prm[b + 2], prm[b + 3]
-            if rho <= e:
-                h = min(h, c - q)
-            elif rho <= e + q:
-                h = min(h, c - math.sqrt(max(q * q - (rho - e) ** 2, 0.0)))
-        else:
-            wa, sb, cb, lo, hi = prm[b + 1], prm[b + 2], prm[b + 3], prm[b + 4], prm[b + 5]
-            w = wa + rho * cb / sb
-            if w <= hi:
-                h = min(h, max(w, lo))
-    return h
 
 
 @njit(cache=True, nogil=True, error_model="numpy")

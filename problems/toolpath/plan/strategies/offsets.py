@@ -5,8 +5,10 @@ from __future__ import annotations
 
 import numpy as np
 
+from ...cutters.profile_kernel import window_bottom
 from ...geometry.surface import normal_curvature, unit_normal
 from ..zoning.profile import profile_width, side_width
+from .walk_kernel import walk_rate
 from ..zoning.stepover import ScallopTarget
 
 __all__ = ["cross_width", "facing_width", "march", "runs", "resample", "zone_mask",
@@ -99,14 +101,14 @@ def cusp_heights(surface, cutter, uv, nxt, b, w, samples: int = 9, reach: int = 
     normal; the largest per pair (M,). The width models assume each cross-section is one
     curvature and each pass straight; this check holds on ridges and bends."""
     m = len(uv)
-    k = np.clip(np.arange(m)[:, None] + np.arange(-reach, reach + 1)[None, :], 0, m - 1)
+    prm = cutter.kernel_params()
     envs = []
     for pts in (uv, nxt):
         j = surface.jet(pts[:, 0], pts[:, 1], order=1)
         n = unit_normal(j, surface.normal_sign)
         if pts is uv:
             js, ns = j, n  # where the walk starts
-        envs.append(cutter.cc_to_tip(j.p, n)[k])  # (M, K, 3)
+        envs.append(np.ascontiguousarray(cutter.cc_to_tip(j.p, n)))  # (M, 3)
     gap = np.full(m, -np.inf)
     s_uv, d = uv, b
     h = (np.asarray(w / (samples + 1), float))[:, None]
@@ -119,24 +121,17 @@ def cusp_heights(surface, cutter, uv, nxt, b, w, samples: int = 9, reach: int = 
         s_uv = s_uv + h * k2
         js = surface.jet(s_uv[:, 0], s_uv[:, 1], order=1)
         ns = unit_normal(js, surface.normal_sign)
-        low = np.full(m, np.inf)
-        for tips in envs:
-            rho = np.linalg.norm(js.p[:, None, :2] - tips[:, :, :2], axis=2)
-            low = np.minimum(low, np.min(tips[:, :, 2] + cutter.height(rho), axis=1))
+        at = np.ascontiguousarray(js.p)
+        low = np.minimum(*(window_bottom(at, tips, reach, prm) for tips in envs))
         gap = np.maximum(gap, (low - js.p[:, 2]) * np.abs(ns[:, 2]))
     return gap
 
 
 def _velocity(j, n, d):
     """The (u, v) rate of a unit-speed walk along the tangent direction d (M, 3) at the
-    jet j with unit normal n, and d projected onto the tangent plane there (unit)."""
-    d = d - np.einsum("ij,ij->i", d, n)[:, None] * n
-    d /= np.maximum(np.linalg.norm(d, axis=1, keepdims=True), 1e-300)
-    E, F, G = (np.einsum("ij,ij->i", a, b) for a, b in ((j.su, j.su), (j.su, j.sv),
-                                                       (j.sv, j.sv)))
-    r1, r2 = np.einsum("ij,ij->i", j.su, d), np.einsum("ij,ij->i", j.sv, d)
-    det = E * G - F * F
-    return np.column_stack([(G * r1 - F * r2) / det, (E * r2 - F * r1) / det]), d
+    jet j with unit normal n, and d projected onto the tangent plane there (unit):
+    ``walk_kernel.walk_rate``."""
+    return walk_rate(j.su, j.sv, n, d)
 
 
 def march(surface, uv, direction, dist, substeps: int = 2):
