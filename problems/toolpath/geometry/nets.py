@@ -30,6 +30,13 @@ def fail(key: str, msg: str):
     raise ValueError(f"{key}: {msg}")
 
 
+def _shown(path) -> str:
+    """A path as a message shows it: as written, or quoted with its escapes when it holds a
+    character that is not printable (a newline would break the message's one line)."""
+    text = str(path)
+    return text if text.isprintable() else repr(text)
+
+
 def _net_loader():
     """PyYAML's safe loader without aliases: a control net never needs them, and an alias
     bomb expands to gigabytes. Deep nesting ends in a RecursionError, which is caught."""
@@ -50,7 +57,7 @@ def resolve(source, key: str, base_dir=None) -> Path:
     if not path.is_absolute() and base_dir is not None:
         path = Path(base_dir) / path
     if not path.is_file():
-        fail(key, f"file not found: {path}")
+        fail(key, f"file not found: {_shown(path)}")
     return path
 
 
@@ -62,7 +69,7 @@ def load_net(source, key: str, base_dir=None, field: str = "poles", width: int =
         import yaml
 
         if path.stat().st_size > MAX_NET_BYTES:
-            fail(key, f"{path} is larger than {MAX_NET_BYTES // 2**20} MiB: not a control net")
+            fail(key, f"{_shown(path)} is larger than {MAX_NET_BYTES // 2**20} MiB: not a control net")
         try:
             if suffix == ".json":
                 data = json.loads(path.read_text(encoding="utf-8"))
@@ -75,10 +82,10 @@ def load_net(source, key: str, base_dir=None, field: str = "poles", width: int =
         except (OSError, ValueError, RecursionError, yaml.YAMLError) as exc:
             if str(exc).startswith(key):
                 raise
-            fail(key, f"cannot read {path}: {str(exc).splitlines()[0]}")
+            fail(key, f"cannot read {_shown(path)}: {str(exc).splitlines()[0]}")
         if isinstance(data, dict):
             if field not in data:
-                fail(key, f"{path} has no {field!r} key")
+                fail(key, f"{_shown(path)} has no {field!r} key")
             data = data[field]
         source = data
     try:
@@ -106,16 +113,16 @@ def _net_from_csv(path: Path, key: str, width: int) -> np.ndarray:
             except ValueError:
                 if n == 0:
                     continue  # header
-                fail(key, f"{path} line {n + 1}: expected numbers {cols}")  # the line is not echoed
+                fail(key, f"{_shown(path)} line {n + 1}: expected numbers {cols}")  # the line is not echoed
             if len(vals) != width + 2:
-                fail(key, f"{path} line {n + 1}: expected {width + 2} columns {cols}, got {len(vals)}")
+                fail(key, f"{_shown(path)} line {n + 1}: expected {width + 2} columns {cols}, got {len(vals)}")
             rows.append(vals)
     if not rows:
-        fail(key, f"{path} holds no poles")
+        fail(key, f"{_shown(path)} holds no poles")
     a = np.array(rows)
     ij = a[:, :2]
     if np.any(ij != np.round(ij)) or np.any(ij < 0):
-        fail(key, f"{path}: i, j must be non-negative integers")
+        fail(key, f"{_shown(path)}: i, j must be non-negative integers")
     nu, nv = int(ij[:, 0].max()) + 1, int(ij[:, 1].max()) + 1
     net = np.full((nu, nv, width), np.nan)
     seen = np.zeros((nu, nv), int)
@@ -125,7 +132,7 @@ def _net_from_csv(path: Path, key: str, width: int) -> np.ndarray:
         seen[i, j] += 1
     if np.any(seen != 1):
         i, j = np.argwhere(seen != 1)[0]
-        fail(key, f"{path}: pole ({i}, {j}) given {seen[i, j]} times (expected once)")
+        fail(key, f"{_shown(path)}: pole ({i}, {j}) given {seen[i, j]} times (expected once)")
     return net if width > 1 else net[..., 0]
 
 
