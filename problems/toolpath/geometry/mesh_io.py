@@ -97,8 +97,11 @@ def _load(path: Path, key: str, label: str):
         if problem:
             raise ValueError(f"{key}: {label}: {problem}")
     try:
-        mesh = trimesh.load(str(path), file_type=path.suffix.lower().lstrip("."), force="mesh",
-                            process=True)
+        # NaN coordinates make trimesh's vertex merge warn ("invalid value encountered in
+        # cast"); check_mesh refuses them in one line, so the warning is not printed too
+        with np.errstate(invalid="ignore"):
+            mesh = trimesh.load(str(path), file_type=path.suffix.lower().lstrip("."),
+                                force="mesh", process=True)
         vertices = np.asarray(getattr(mesh, "vertices", ()), dtype=float).reshape(-1, 3)
         faces = np.asarray(getattr(mesh, "faces", ()), dtype=np.int64).reshape(-1, 3)
     except Exception as exc:  # a third-party parser: any failure is a bad file
