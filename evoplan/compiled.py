@@ -6,21 +6,22 @@ look-up with its known values and rows to evaluate, and its store, one pass each
 breeding of children from their parents (``operators/breeding_kernels.py`` against the
 crossover and mutation operators' masks) and VEGA's infection round
 (``operators/viral_kernels.py`` against ``operators/viral_outcome.py``'s matrix form). The
-compiled forms are faster per row, but a process pays once to load numba and dispatch them:
-1.0-1.1 s of CPU on the 2-core host (numba's import 0.3-0.4 s, the first dispatch of a cached
-function 0.6 s). Measured in fresh processes (GA on Kubota's function,
-a 100 000-entry cache, CPU seconds of the whole process): 200 x 200 generations take 0.11 s
-of run in numpy, a tenth of the load; 200 x 10 000 (2 M rows) 6.16 s numpy against 6.40 s
-compiled; 200 x 20 000 (4 M rows) 9.7-10.0 s against 7.7-9.0 s.
+compiled forms are faster per row, but a process pays once to load numba and dispatch them.
+Measured on the 2-core host in fresh processes (GA on Kubota's function, pop 200, a
+100 000-entry cache, whole-process CPU seconds, medians of 3, session of 2026-12-07): numpy
+0.96 s at 2000 generations and 2.83 s at 12 000 (187 us a generation), compiled 1.34 s and
+2.45 s (111 us a generation): the load costs 0.53 s and pays back after about 7000
+generations, 2.8 M rows as counted below (the cache's 200 and the 199 children a
+generation).
 
 :func:`use_compiled` is the rule, one for the process (the cost is the process's):
 
 - numba already loaded (a toolpath problem's kernels, or an earlier long run): compiled, as
   the load is paid;
 - else numpy, until the process has put :data:`SWITCH_ROWS` rows through these loops (the
-  cache's rows, the children bred, and VEGA's infections too); then compiled. That is about the break-even
-  above, so a run never pays much more than twice what the better choice in hindsight would
-  have cost (the ski-rental rule).
+  cache's rows, the children bred, and VEGA's infections too); then compiled. That is the
+  break-even above, so a run never pays much more than twice what the better choice in
+  hindsight would have cost (the ski-rental rule).
 
 The choice changes time, never numbers. :func:`set_mode` fixes it (``always`` / ``never``) for
 benchmarks and tests.
@@ -32,7 +33,7 @@ import sys
 
 __all__ = ["SWITCH_ROWS", "MODES", "use_compiled", "set_mode"]
 
-SWITCH_ROWS = 2_000_000
+SWITCH_ROWS = 2_800_000
 MODES = ("auto", "always", "never")
 
 _mode = "auto"
