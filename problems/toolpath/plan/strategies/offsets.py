@@ -8,8 +8,8 @@ import numpy as np
 from ...cutters.profile_kernel import window_bottom
 from ...geometry.surface import normal_curvature, unit_normal
 from ..zoning.profile import profile_width, side_width
-from .walk_kernel import walk_rate
 from ..zoning.stepover import ScallopTarget
+from .walk_kernel import walk_rate
 
 __all__ = ["cross_width", "facing_width", "march", "runs", "resample", "zone_mask",
            "pass_frame", "extend_to_edge", "untangle", "cusp_heights"]
