@@ -1,12 +1,14 @@
 """The compiled passes on a cutter's kernel array give the numpy numbers they replace:
 the drop-cutter's seeds (``cutters/drop_seeds.py``, against the former KD-tree version kept
-here as the reference), a pass's swept bottom (``profile_kernel.window_bottom``) and the
-walk's rate (``plan/strategies/walk_kernel.py``)."""
+here as the reference), a pass's swept bottom (``profile_kernel.window_bottom``), the
+walk's rate (``plan/strategies/walk_kernel.py``) and the spacing table's bilinear lookup
+(``plan/zoning/lookup_kernel.py``, against ``scipy.ndimage.map_coordinates``)."""
 
 from itertools import chain
 
 import numpy as np
 import pytest
+from scipy.ndimage import map_coordinates
 
 from evoplan.problems.toolpath.cutters import make_cutter
 from evoplan.problems.toolpath.cutters.drop_rim import group_argmax
@@ -15,6 +17,8 @@ from evoplan.problems.toolpath.cutters.profile_kernel import piece_height, windo
 from evoplan.problems.toolpath.cutters.surface_grid import surface_grid
 from evoplan.problems.toolpath.geometry.spec import parse_surface
 from evoplan.problems.toolpath.plan.strategies.walk_kernel import walk_rate
+from evoplan.problems.toolpath.plan.zoning.lookup_kernel import bilinear_nearest
+from evoplan.problems.toolpath.plan.zoning.profile import ProfileTable
 
 CUTTERS = [(16, 3, {}), (12, 6, {}), (8, 0, {}), (6.35, 1, {}), (10, 1, {"taper_angle": 10})]
 
@@ -111,3 +115,30 @@ def test_walk_rate_moves_along_the_projected_direction(fountas):
     assert np.allclose(np.linalg.norm(unit, axis=1), 1.0)
     assert np.allclose(np.einsum("ij,ij->i", unit, n), 0.0, atol=1e-12)
     assert np.allclose(rate[:, :1] * jet.su + rate[:, 1:] * jet.sv, unit, atol=1e-9)
+
+
+def test_bilinear_lookup_is_map_coordinates_bit_for_bit():
+    rng = np.random.default_rng(11)
+    table = rng.normal(size=(129, 97)) * 3.0 + 5.0
+    n = 60_000
+    i, j = rng.uniform(-2.0, 131.0, n), rng.uniform(-2.0, 99.0, n)
+    i[:2000] = np.round(i[:2000])  # on nodes
+    j[2000:4000] = rng.uniform(0.0, 1e-5, 2000) + rng.integers(0, 96, 2000)  # just past a node
+    i[4000:6000] = rng.integers(1, 128, 2000) - rng.uniform(0.0, 1e-9, 2000)  # just before one
+    i[6000:6003], j[6003:6006] = (np.nan, np.inf, -np.inf), (np.nan, np.inf, -np.inf)
+    want = map_coordinates(table, np.stack([i, j]), order=1, mode="nearest")
+    got = bilinear_nearest(table, i, j)
+    finite = np.isfinite(want)
+    assert np.array_equal(got[finite].view(np.uint64), want[finite].view(np.uint64))
+    assert np.isnan(got[~finite]).all() and (~finite).sum() == 6  # not finite in: NaN out
+    # any shape, the result's that of the indices
+    assert np.array_equal(bilinear_nearest(table, i[:600].reshape(20, 30), j[:600].reshape(20, 30)),
+                          want[:600].reshape(20, 30))
+
+
+def test_profile_table_width_equals_its_scipy_reference():
+    table = ProfileTable(make_cutter(6.35, 1), 0.254)
+    rng = np.random.default_rng(2)
+    t_z, beta = rng.uniform(-1.0, 1.0, 20_000), rng.uniform(-1.6, 1.6, 20_000)
+    t_z[:500], beta[500:1000] = rng.uniform(-1e-10, 1e-10, 500), 0.0  # near the flat bottom
+    assert np.array_equal(table.width(t_z, beta), table.width_numpy(t_z, beta))

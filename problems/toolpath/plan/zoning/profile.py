@@ -32,6 +32,8 @@ from functools import lru_cache
 import numpy as np
 from scipy.ndimage import map_coordinates
 
+from .lookup_kernel import bilinear_nearest
+
 __all__ = ["ProfileTable", "profile_table", "profile_width", "SideTable", "side_table", "side_width",
            "angle_grid", "grid_coords",
            "section_beta", "secant_width"]
@@ -82,7 +84,12 @@ class ProfileTable:
         self.table = cutter.swept_side_width(h, tt, bb) + cutter.swept_side_width(h, tt, -bb)
 
     def width(self, t_z, beta) -> np.ndarray:
-        """Bilinear lookup of W at |t_z|, |beta| (arrays)."""
+        """Bilinear lookup of W at |t_z|, |beta| (arrays): ``lookup_kernel.bilinear_nearest``,
+        the numbers of :meth:`width_numpy` bit for bit."""
+        return bilinear_nearest(self.table, *grid_coords(t_z, beta, self.n_t, self.n_b))
+
+    def width_numpy(self, t_z, beta) -> np.ndarray:
+        """:meth:`width` through ``scipy.ndimage.map_coordinates`` (the reference)."""
         return map_coordinates(self.table, grid_coords(t_z, beta, self.n_t, self.n_b),
                                order=1, mode="nearest")
 
