@@ -151,9 +151,14 @@ def test_profile_model_matches_an_independent_projection_of_the_tool(tool, lead,
     got_l = profile_height(tab, np.ones(4, int), xq)
     # within 0.02 mm of the reach the profile rises vertically (the rim): there a 1e-4 mm
     # difference in x is a large one in z, so those queries only have to agree on "beyond"
+    # rtol: the table's linear interpolation between its samples; the worst case found is
+    # 0.39 % (0.25 um of 0.064 mm: torus D16 r3, lead 0.64 deg, tilt 0.5 deg, 2.4 mm out),
+    # 0.25 % on a 6 x 10 x 5 grid of the cases drawn here; twice the uniform samples
+    # (profile_tables' m_uniform 128) would halve it, and move every 5-axis analytic scallop
+    # by up to 0.2 %
     for got, ref, reach in ((got_r, right, tab[2][0]), (got_l, left, tab[2][1])):
         ok = np.abs(xq - reach) > 0.02
-        np.testing.assert_allclose(got[ok], ref[ok], rtol=3e-3, atol=3e-5)
+        np.testing.assert_allclose(got[ok], ref[ok], rtol=4.5e-3, atol=3e-5)
         assert np.array_equal(np.isinf(got), xq > reach * (1 + 1e-12))
 
 
