@@ -1,7 +1,7 @@
 """The planner's compiled passes give the numpy numbers they replace: the drop-cutter's
-seeds (``cutters/drop_seeds.py``, against the former KD-tree version kept
-here as the reference), a pass's swept bottom (``profile_kernel.window_bottom``), the
-walk's rate (``plan/strategies/walk_kernel.py``) and the spacing table's bilinear lookup
+seeds (``cutters/drop_seeds.py``, against the former KD-tree version kept here as the
+reference), a pass's swept bottom (``profile_kernel.window_bottom``), the walk's rate
+(``plan/strategies/walk_kernel.py``) and the spacing table's bilinear lookup
 (``plan/zoning/lookup_kernel.py``, against ``scipy.ndimage.map_coordinates``)."""
 
 from itertools import chain
