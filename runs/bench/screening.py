@@ -8,17 +8,22 @@ simulation (``criteria: simulated``), optimized by the GA of ``runs/fountas_tool
 (``termination.evaluations``: the engine charges a screened plan 0, a simulated one 1):
 
 - ``full``: every new plan is simulated (``criteria: simulated``);
-- ``screening``: ``simulation.screening`` (``criteria/screening.py``, fraction 0.25 and the
-  elite, nearest-plan correction), and with ``--arms`` also the ``offset`` correction.
+- ``ratio``, ``nearest``, ``offset``: ``simulation.screening`` (``criteria/screening.py``,
+  fraction 0.25 and the elite) with that correction.
 
-The normalization bounds are given (machining error [0, 0.5] mm, CC points [0, 1000]), so no
-simulation is spent outside the budget on a normalization design. Reported: the final
+``--error`` chooses Eq. 9's machining error: ``max``, the largest deviation (the paper's;
+a coarse grid samples a cusp below its top, so it depends on where the cusps fall between
+the grid's nodes), or ``mean``, the area mean of the deviation, which a coarse grid measures
+well. The normalization bounds are given (largest deviation [0, 0.5] mm, mean [0, 0.25] mm,
+CC points [0, 1000]), so no simulation is spent outside the budget on a normalization
+design. ``--check-grid G`` simulates each run's best plan again on a G mm grid (outside the
+budget). Reported: the final
 simulated objective per arm (median, quartiles; Wilcoxon signed-rank over the seeds, which
 pair the arms' initial populations), and the simulations the screened runs need for their
 median best-so-far to reach the full simulation's final median.
 
     python runs/bench/screening.py [--seeds 10] [--budget 400] [--grid 1.0] [--fraction 0.25]
-        [--arms full nearest] [--out PATH | --regenerate]
+        [--error max|mean] [--check-grid G] [--arms full ratio] [--out PATH | --regenerate]
 """
 
 from __future__ import annotations
@@ -39,7 +44,8 @@ from outputs import add_report_options, resolve_report_paths, write_report  # no
 import evoplan  # noqa: E402
 from evoplan.problems.toolpath.problem import ToolpathProblem  # noqa: E402
 
-NORM = {"machining_error": [0, 0.5], "cc_count": [0, 1000]}
+#: the machining-error criterion of Eq. 9 (``--error``) -> its normalization bounds (mm)
+ERRORS = {"max": ("machining_error", [0, 0.5]), "mean": ("machining_error_mean", [0, 0.25])}
 GA = dict(population=20, elitism=1, fitness={"normalize": "rank", "pressure": 2.0},
           selection={"kind": "roulette"}, crossover={"kind": "single_point", "rate": 0.9},
           mutation={"kind": "single_point", "rate": 0.5})
@@ -47,12 +53,20 @@ CODEC = dict(bits=10, variables={"stepover": {"bits": 11}, "lead": {"bits": 11},
                                  "tilt": {"bits": 10}, "step": {"bits": 10}})
 
 
-def one_run(arm: str, seed: int, budget: int, grid: float, fraction: float) -> dict:
+def objective(error: str) -> dict:
+    """The Eq. 9 weights and normalization bounds with the machining error ``error``."""
+    name, bounds = ERRORS[error]
+    return {"weights": {name: 0.5, "cc_count": 0.5},
+            "normalization": {name: bounds, "cc_count": [0, 1000]}}
+
+
+def one_run(arm: str, seed: int, budget: int, grid: float, fraction: float, error: str,
+            check_grid: float | None = None) -> dict:
     """One GA run of an arm: its best-so-far trace over simulations, counts and CPU time."""
     sim = {"grid_mm": grid}
     if arm != "full":
         sim["screening"] = {"fraction": fraction, "correction": arm}
-    problem = ToolpathProblem(criteria="simulated", simulation=sim, normalization=NORM)
+    problem = ToolpathProblem(criteria="simulated", simulation=sim, **objective(error))
     states = []
     t0 = time.process_time()
     r = evoplan.minimize(problem, "ga", {"evaluations": budget}, seed=seed, callback=states.append,
@@ -64,9 +78,14 @@ def one_run(arm: str, seed: int, budget: int, grid: float, fraction: float) -> d
     screen = problem.simulated.screening
     plans = r.evaluations if screen is None else screen.simulations + screen.screened
     check = ToolpathProblem(criteria="simulated", simulation={"grid_mm": grid},
-                            normalization=NORM).evaluate_params(r.x)["objective"]
+                            **objective(error)).evaluate_params(r.x)["objective"]
+    fine = math.nan
+    if check_grid is not None:  # the same best plan, measured on a finer grid
+        fine = ToolpathProblem(criteria="simulated", simulation={"grid_mm": check_grid},
+                               **objective(error)).evaluate_params(r.x)["objective"]
     return {"best": r.f, "trace": trace, "simulations": r.evaluations, "plans": plans,
-            "generations": int(r.history["generation"].iloc[-1]), "cpu": cpu, "simulated_best": check}
+            "generations": int(r.history["generation"].iloc[-1]), "cpu": cpu, "simulated_best": check,
+            "fine": fine, "x": r.x}
 
 
 def best_at(run: dict, c: int) -> float:
@@ -93,7 +112,11 @@ def main() -> None:
     ap.add_argument("--budget", type=int, default=400, help="simulations per run")
     ap.add_argument("--grid", type=float, default=1.0, help="simulation grid (mm)")
     ap.add_argument("--fraction", type=float, default=0.25)
-    ap.add_argument("--arms", nargs="+", choices=["full", "nearest", "offset"], default=["full", "nearest"])
+    ap.add_argument("--error", choices=sorted(ERRORS), default="max",
+                    help="Eq. 9's machining error: the largest deviation (the paper's) or the area mean")
+    ap.add_argument("--check-grid", type=float, default=None,
+                    help="also simulate each run's best on this finer grid (mm), not counted in the budget")
+    ap.add_argument("--arms", nargs="+", choices=["full", "ratio", "nearest", "offset"], default=["full", "ratio"])
     add_report_options(ap)
     args = ap.parse_args()
     resolve_report_paths(args, __file__)
@@ -104,32 +127,39 @@ def main() -> None:
     for arm in args.arms:
         runs[arm] = []
         for seed in seeds:
-            runs[arm].append(one_run(arm, seed, args.budget, args.grid, args.fraction))
+            runs[arm].append(one_run(arm, seed, args.budget, args.grid, args.fraction, args.error,
+                                    args.check_grid))
             r = runs[arm][-1]
             print(f"{arm:8s} seed {seed:2d}: best {r['best']:.4f} after {r['simulations']} simulations, "
-                  f"{r['plans']} plans, {r['generations']} generations, {r['cpu']:.1f} s CPU", flush=True)
+                  f"{r['plans']} plans, {r['generations']} generations, {r['cpu']:.1f} s CPU"
+                  + ("" if args.check_grid is None else f"; at {args.check_grid:g} mm {r['fine']:.4f}")
+                  + f"; plan {{{', '.join(f'{k}: {float(v):.4g}' for k, v in r['x'].items())}}}",
+                  flush=True)
     wall = time.perf_counter() - t0
     assert all(r["best"] == r["simulated_best"] for rs in runs.values() for r in rs), "a best was not simulated"
     B = args.budget
     full = runs.get("full")
     target = float(np.median([r["best"] for r in full])) if full else None
     cmd = (f"python runs/bench/screening.py --seeds {args.seeds} --budget {B} --grid {args.grid:g}"
-           f" --fraction {args.fraction:g} --arms {' '.join(args.arms)}")
+           f" --fraction {args.fraction:g} --error {args.error} --arms {' '.join(args.arms)}"
+           + ("" if args.check_grid is None else f" --check-grid {args.check_grid:g}"))
+    fine_head = "" if args.check_grid is None else f" the same bests simulated at {args.check_grid:g} mm |"
     lines = [f"# Screening vs full simulation: Fountas 5-axis, GA, {B} simulations a run, seeds 1-{args.seeds}", "",
              f"`{cmd}`", "",
              f"Cut simulation on a {args.grid:g} mm grid (rays along the normal); screening fraction "
              f"{args.fraction:g} plus the elite. Every run's best was checked against a fresh "
              "simulation of its plan: equal, bit for bit.", "",
              "| arm | final objective, median (quartiles) | best at B/4 | plans evaluated | generations | "
-             "simulations to reach the full median | CPU s a run |",
-             "|---|---|---|---|---|---|---|"]
+             "simulations to reach the full median | CPU s a run |" + fine_head,
+             "|---|---|---|---|---|---|---|" + ("---|" if fine_head else "")]
     for arm, rs in runs.items():
         reach = needed(rs, target, B) if target is not None else None
         lines.append(
             f"| {arm} | {quartiles([r['best'] for r in rs])} | "
             f"{np.median([best_at(r, B // 4) for r in rs]):.4f} | {np.median([r['plans'] for r in rs]):.0f} | "
             f"{np.median([r['generations'] for r in rs]):.0f} | "
-            f"{'-' if reach is None else reach} | {np.median([r['cpu'] for r in rs]):.1f} |")
+            f"{'-' if reach is None else reach} | {np.median([r['cpu'] for r in rs]):.1f} |"
+            + (f" {quartiles([r['fine'] for r in rs])} |" if fine_head else ""))
     lines.append("")
     if full:
         for arm, rs in runs.items():

@@ -4,12 +4,13 @@ the most promising plans of it.
 Under ``criteria: simulated`` with ``simulation: {screening: {...}}`` one batch of n plans is
 evaluated in rounds:
 
-1. every plan gets its analytic Eq. 9 objective ``a`` (``criteria/analytic.py``, a few ms a
-   plan) and a prediction of its simulated objective, ``p = a + c``, with ``c`` the
-   correction learned from the pairs (analytic, simulated) this run has simulated so far;
+1. every plan gets its analytic criteria and Eq. 9 objective ``a`` (``criteria/analytic.py``,
+   a few ms a plan) and a prediction ``p`` of its simulated objective, corrected by what
+   the pairs (analytic, simulated) this run has simulated so far teach;
 2. the ``ceil(fraction n)`` plans of lowest ``p`` are simulated (``criteria/simulated.py``);
-   With ``correction: nearest``, so is the best-predicted plan of each tool (and strategy)
-   of the batch that has no simulated plan yet (at most one simulation per tool in a run);
+   with a local correction (``ratio``, ``nearest``), so is the best-predicted plan of each
+   tool (and strategy) of the batch that has no simulated plan yet (at most one simulation
+   per tool in a run);
 3. every plan not yet simulated whose prediction, re-made with the new pairs, is at or below
    the best simulated objective so far (the **elite**: a plan that could become the run's
    best) is simulated too; step 3 repeats until no such plan is left.
@@ -19,16 +20,26 @@ is then above the best simulated value the run has been given. So the run's best
 ``best.json``) is always a simulated plan, and the evaluation budget, which counts the
 ``cost`` of each row (1 simulated, 0 screened: ``evoplan/engine.py``), counts simulations.
 
-**Correction** (``correction``): ``nearest`` (default) adds to ``a`` the inverse-distance
-weighted mean residual ``s - a`` of the ``neighbours`` nearest simulated plans with the same
-tool (and strategy), distances over the other free genes scaled to their ranges; without
-such a plan, the ``offset``. ``offset`` adds the median residual of every simulated plan (0
-before the first). The analytic model ranks random plans as the simulation does (Spearman
-0.85-0.97, the grid's resolution decides), but its error is not a constant: the pose gouge
-and the chord error it adds up are upper bounds whose slack depends on the tool and its
-lean, so a residual learned near a plan beats one offset for all (on 100 random Fountas
-plans at a 1 mm grid, held-out RMS error 0.089 against 0.109 in Eq. 9 units); and a run
-concentrates its plans, where its nearest pairs get close.
+**Correction** (``correction``), each learned from the ``neighbours`` nearest simulated
+plans with the same tool (and strategy), inverse-distance weighted, distances over the other
+free genes scaled to their ranges; a plan with no such neighbour takes the median of every
+pair (and, before the first pair, nothing):
+
+- ``ratio`` (default) scales each simulated criterion the objective weighs (the machining
+  error, a scallop, a gouge) by the neighbours' ratio simulated / analytic of it (a mean of
+  log ratios, each value plus ``RATIO_FLOOR``), then forms Eq. 9 from the scaled criteria;
+- ``nearest`` adds to ``a`` the neighbours' residual ``s - a`` of the objective;
+- ``offset`` adds the median residual of every simulated plan.
+
+The analytic model ranks random plans as the simulation does, but its error is neither a
+constant nor an additive one: its cusp heights and pose gouge are upper bounds whose slack
+grows with the deviation and depends on the tool and its lean, so a scale learned near a
+plan transfers to its neighbours where a residual does not. Held out one at a time on 150
+random Fountas plans at a 1 mm grid (``runs/bench/screening_corrections.py``), the Eq. 9
+prediction errors of the best 30 % are, RMS, 0.010 (ratio), 0.055 (nearest) and 0.10
+(offset) with the mean machining error in Eq. 9, and 0.028, 0.069 and 0.082 with the
+largest one (which the 1 mm grid samples below the cusps' tops: see
+``runs/bench/screening.md``).
 
 The correction's pairs live in this object, not in the run's checkpoint: a resumed run
 relearns them from the simulations after the resume (its best stays a simulated plan).
@@ -47,7 +58,11 @@ from .objective import weighted_sum
 __all__ = ["Screening", "ScreeningSettings", "CORRECTIONS", "settings_error"]
 
 #: ways to predict a plan's simulated objective from its analytic one
-CORRECTIONS = ("nearest", "offset")
+CORRECTIONS = ("ratio", "nearest", "offset")
+
+#: mm added to a simulated and an analytic criterion before their ratio: the ratio of two
+#: near-zero deviations (a plan that leaves no gouge) is noise, not a scale
+RATIO_FLOOR = 1e-3
 
 #: genes compared by equality (categories), not by distance
 _CATEGORICAL = ("tool", "strategy")
@@ -61,8 +76,8 @@ class ScreeningSettings(BaseModel):
 
     fraction: float = Field(0.25, description="the share of each batch simulated, the elite "
                             "aside; in (0, 1] (1 simulates every plan, as without screening)")
-    correction: Literal["nearest", "offset"] = Field(
-        "nearest", description="how a plan's simulated objective is predicted from its analytic one")
+    correction: Literal["ratio", "nearest", "offset"] = Field(
+        "ratio", description="how a plan's simulated objective is predicted from its analytic one")
     neighbours: int = Field(3, description="simulated plans the nearest correction averages (>= 1)")
 
     @model_validator(mode="before")
@@ -83,7 +98,7 @@ class ScreeningSettings(BaseModel):
     @classmethod
     def _correction(cls, v):
         if v not in CORRECTIONS:
-            raise ValueError(f"expected {' or '.join(CORRECTIONS)}, got {v!r}")
+            raise ValueError(f"expected {', '.join(CORRECTIONS[:-1])} or {CORRECTIONS[-1]}, got {v!r}")
         return v
 
     @field_validator("neighbours", mode="before")
@@ -135,7 +150,8 @@ class Screening:
         self.screened = 0  # plans valued by their prediction alone
         self._z = np.zeros((0, 0))  # the simulated plans' scaled continuous genes
         self._cat = np.zeros((0, 0))  # ... their categorical genes
-        self._residual = np.zeros(0)  # ... their simulated minus analytic objective
+        self._y = np.zeros((0, 1))  # ... what the correction learned of each (``_targets``)
+        self._names = None  # the simulated criteria the ratio correction scales
 
     # -- the correction -----------------------------------------------------------------
     @staticmethod
@@ -147,24 +163,50 @@ class Screening:
         z = (X - problem.xl) / span
         return z[:, ~cat], np.rint(X[:, cat])
 
-    def _offset(self) -> float:
-        return float(np.median(self._residual)) if self._residual.size else 0.0
-
-    def predict(self, a: np.ndarray, z: np.ndarray, cat: np.ndarray) -> np.ndarray:
-        """The predicted simulated objective of plans of analytic objective ``a``."""
-        offset = self._offset()
-        if self.correction == "offset" or not self._residual.size:
-            return a + offset
+    def _local(self, z: np.ndarray, cat: np.ndarray) -> np.ndarray:
+        """(n, k): the inverse-distance weighted mean target of the ``neighbours`` nearest
+        simulated plans of the same categories, or the median target of all pairs where no
+        pair shares them (0 before the first pair; the median alone for ``offset``)."""
+        n, k = len(z), self._y.shape[1]
+        if not len(self._y):
+            return np.zeros((n, k))
+        offset = np.median(self._y, axis=0)
+        if self.correction == "offset":
+            return np.broadcast_to(offset, (n, k)).copy()
         same = (cat[:, None, :] == self._cat[None, :, :]).all(axis=2)  # (n, m)
         d = np.sqrt(((z[:, None, :] - self._z[None, :, :]) ** 2).sum(axis=2))
         d = np.where(same, d, np.inf)
-        k = min(self.neighbours, d.shape[1])
-        near = np.argsort(d, axis=1, kind="stable")[:, :k]
+        near = np.argsort(d, axis=1, kind="stable")[:, :min(self.neighbours, d.shape[1])]
         dn = np.take_along_axis(d, near, axis=1)
         w = np.where(np.isfinite(dn), 1.0 / (dn + 1e-9), 0.0)
-        has = w.sum(axis=1) > 0
-        local = (w * self._residual[near]).sum(axis=1) / np.where(has, w.sum(axis=1), 1.0)
-        return a + np.where(has, local, offset)
+        total = w.sum(axis=1)
+        local = (w[:, :, None] * self._y[near]).sum(axis=1) / np.where(total > 0, total, 1.0)[:, None]
+        return np.where((total > 0)[:, None], local, offset)
+
+    def predict(self, problem, crit: dict, a: np.ndarray, z: np.ndarray, cat: np.ndarray) -> np.ndarray:
+        """The predicted simulated objective of plans of analytic criteria ``crit`` and
+        analytic objective ``a`` (module docstring: the corrections)."""
+        if self.correction == "ratio" and self._names is None:
+            return a.copy()  # no pair yet: the analytic value as it is
+        local = self._local(z, cat)
+        if self.correction != "ratio":
+            return a + local[:, 0]
+        scaled = dict(crit)
+        for c, name in enumerate(self._names):
+            scaled[name] = (crit[name] + RATIO_FLOOR) * np.exp(local[:, c]) - RATIO_FLOOR
+        return weighted_sum(scaled, problem.weights, problem.norm_bounds)
+
+    def _targets(self, problem, crit: dict, measured: dict, a, s) -> np.ndarray:
+        """(m, k) what the correction learns from simulated plans: the residual s - a of the
+        objective, or for ``ratio`` the log ratio of each simulated criterion (``measured``)
+        the objective weighs to its analytic value (floored by ``RATIO_FLOOR``)."""
+        sim = measured
+        if self.correction != "ratio":
+            return (s - a)[:, None]
+        if self._names is None:
+            self._names = tuple(n for n in problem.weights if n in sim and problem.weights[n] != 0)
+        return np.column_stack([np.log((sim[n] + RATIO_FLOOR) / (crit[n] + RATIO_FLOOR))
+                                for n in self._names]).reshape(len(s), len(self._names))
 
     def _untried(self, cat: np.ndarray, p: np.ndarray) -> np.ndarray:
         """The best-predicted plan of each tool (and strategy) of the batch of which no plan
@@ -181,12 +223,33 @@ class Screening:
         out[list(best.values())] = True
         return out
 
-    def _learn(self, z, cat, residual) -> None:
-        if self._z.shape[1] != z.shape[1] or self._cat.shape[1] != cat.shape[1]:
+    def _learn(self, z, cat, y) -> None:
+        y = np.asarray(y, float).reshape(len(z), -1)
+        if self._z.shape[1] != z.shape[1] or self._cat.shape[1] != cat.shape[1] \
+                or self._y.shape[1] != y.shape[1]:
             self._z, self._cat = np.zeros((0, z.shape[1])), np.zeros((0, cat.shape[1]))
+            self._y = np.zeros((0, y.shape[1]))
         self._z = np.concatenate([self._z, z])
         self._cat = np.concatenate([self._cat, cat])
-        self._residual = np.concatenate([self._residual, residual])
+        self._y = np.concatenate([self._y, y])
+
+    # -- pairs and predictions -------------------------------------------------------------
+    def learn(self, problem, X: np.ndarray, crit: dict, measured: dict) -> np.ndarray:
+        """Learn from the simulated rows X of ``problem``: ``crit`` their analytic criteria,
+        ``measured`` their simulated ones (dicts of (m,)). Returns their simulated objective."""
+        a = weighted_sum(crit, problem.weights, problem.norm_bounds)
+        s = weighted_sum(crit | measured, problem.weights, problem.norm_bounds)
+        z, cat = self._features(problem, X)
+        y = self._targets(problem, crit, measured, a, s)
+        ok = np.isfinite(s) & np.isfinite(a) & np.isfinite(y).all(axis=1)
+        self._learn(z[ok], cat[ok], y[ok])
+        return s
+
+    def predicted(self, problem, X: np.ndarray, crit: dict) -> np.ndarray:
+        """The predicted simulated objective of the rows X of analytic criteria ``crit``."""
+        a = weighted_sum(crit, problem.weights, problem.norm_bounds)
+        z, cat = self._features(problem, X)
+        return self.predict(problem, crit, a, z, cat)
 
     # -- a batch --------------------------------------------------------------------------
     def evaluate(self, problem, X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -199,27 +262,24 @@ class Screening:
         if n == 0:
             return np.zeros((0, 1)), np.zeros(0)
         crit, genes = problem.analytic(X)
-        a = weighted_sum(crit, problem.weights, problem.norm_bounds)
-        z, cat = self._features(problem, X)
-        p = self.predict(a, z, cat)
+
+        def pick(rows):
+            return {k: v[rows] for k, v in crit.items()}
+        p = self.predicted(problem, X, crit)
         f = np.where(np.isfinite(p), p, np.inf)
         done = np.zeros(n, bool)
         take = np.zeros(n, bool)
-        order = np.argsort(np.where(np.isfinite(p), p, np.inf), kind="stable")
-        take[order[: math.ceil(self.fraction * n)]] = True
-        if self.correction == "nearest":
-            take |= self._untried(cat, f)
+        take[np.argsort(f, kind="stable")[: math.ceil(self.fraction * n)]] = True
+        if self.correction != "offset":
+            take |= self._untried(self._features(problem, X)[1], f)
         while take.any():
             rows = np.flatnonzero(take)
-            sim = {k: v[rows] for k, v in crit.items()} | problem.simulate_rows(genes, rows)
-            s = weighted_sum(sim, problem.weights, problem.norm_bounds)
+            s = self.learn(problem, X[rows], pick(rows), problem.simulate_rows(genes, rows))
             f[rows], done[rows] = s, True
-            ok = np.isfinite(s) & np.isfinite(a[rows])
-            self._learn(z[rows][ok], cat[rows][ok], (s - a[rows])[ok])
             if np.isfinite(s).any():
                 self.best = min(self.best, float(np.min(s[np.isfinite(s)])))
             rest = np.flatnonzero(~done)
-            f[rest] = self.predict(a[rest], z[rest], cat[rest])
+            f[rest] = self.predicted(problem, X[rest], pick(rest))
             take[:] = False
             take[rest] = f[rest] <= self.best  # the elite: could become the run's best
         self.simulations += int(done.sum())

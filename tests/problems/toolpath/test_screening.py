@@ -77,13 +77,53 @@ def test_the_fraction_and_the_elite_are_simulated_and_the_rest_is_predicted_abov
     assert F[:, 0].tolist() == [0.5, 0.2, 0.01] and screen.best == 0.01
 
 
+def learned(correction, X, analytic, simulated):
+    """A screen of ``correction`` (one neighbour) that has learned the simulated rows X of a
+    FakeProblem, and the problem."""
+    fake = FakeProblem(simulated)
+    screen = Screening({"correction": correction, "neighbours": 1})
+    zeros = np.zeros(len(X))
+    screen.learn(fake, X, {"machining_error": np.asarray(analytic, float), "cc_count": zeros},
+                 {"machining_error": np.asarray(simulated, float)})
+    return screen, fake
+
+
+def predicted(screen, fake, X, analytic):
+    crit = {"machining_error": np.asarray(analytic, float), "cc_count": np.zeros(len(X))}
+    return screen.predicted(fake, X, crit)
+
+
 def test_nearest_correction_uses_the_residual_of_the_nearest_plan_with_the_same_tool():
-    screen = Screening({"correction": "nearest", "neighbours": 1})
-    screen._learn(np.array([[0.1], [0.9]]), np.array([[0.0], [1.0]]), np.array([0.5, -0.5]))
-    p = screen.predict(np.array([1.0, 1.0, 1.0]), np.array([[0.85], [0.85], [0.5]]),
-                       np.array([[0.0], [1.0], [2.0]]))
-    # tool 0: its one pair (+0.5) however far; tool 1: -0.5; tool 2: no pair, the median offset 0
-    np.testing.assert_allclose(p, [1.5, 0.5, 1.0])
+    # tool 0 at step-over 10: analytic 0.1, simulated 0.6 (+0.5); tool 1 at 90: 0.9 -> 0.4 (-0.5)
+    screen, fake = learned("nearest", np.array([[0.0, 10.0, 0.0], [1.0, 90.0, 1.0]]), [0.1, 0.9], [0.6, 0.4])
+    X = np.array([[0.0, 85.0, 0.0], [1.0, 85.0, 0.0], [2.0, 50.0, 0.0]])
+    # tool 0: its one pair (+0.5) however far; tool 1: -0.5; tool 2: no pair, the median 0
+    np.testing.assert_allclose(predicted(screen, fake, X, [1.0, 1.0, 1.0]), [1.5, 0.5, 1.0])
+
+
+def test_ratio_correction_scales_the_simulated_criteria_by_the_nearest_plans_ratio():
+    from evoplan.problems.toolpath.criteria.screening import RATIO_FLOOR as e
+    # tool 0: the simulation finds half the analytic deviation (0.1 of 0.2)
+    screen, fake = learned("ratio", np.array([[0.0, 20.0, 0.0]]), [0.2], [0.1])
+    X = np.array([[0.0, 40.0, 0.0], [1.0, 40.0, 0.0]])
+    scale = (0.1 + e) / (0.2 + e)
+    # a tool-0 plan of analytic 0.4 is predicted at 0.2 (a residual would give 0.3); tool 1
+    # has no pair yet and takes the median ratio of every pair, the same one here
+    expect = (0.4 + e) * scale - e
+    np.testing.assert_allclose(predicted(screen, fake, X, [0.4, 0.4]), [expect, expect])
+    assert abs(expect - 0.2) < 2e-3
+    # a tool-1 pair that the analytic model got right: tool 1 is now predicted as analytic
+    screen.learn(fake, np.array([[1.0, 30.0, 1.0]]),
+                 {"machining_error": np.array([0.3]), "cc_count": np.zeros(1)},
+                 {"machining_error": np.array([0.3])})
+    np.testing.assert_allclose(predicted(screen, fake, X, [0.4, 0.4]), [expect, 0.4])
+
+
+def test_ratio_correction_predicts_the_analytic_value_before_the_first_pair():
+    fake = FakeProblem(np.zeros(2))
+    screen = Screening({"correction": "ratio"})
+    X = fake_batch(np.array([30.0, 70.0]))
+    np.testing.assert_array_equal(predicted(screen, fake, X, [0.3, 0.7]), [0.3, 0.7])
 
 
 def test_a_screened_run_returns_a_simulated_best_and_counts_simulations():
@@ -116,7 +156,7 @@ RUN = {"problem": {"name": "toolpath", "params": {"criteria": "simulated", "norm
 @pytest.mark.parametrize("screening, message", [
     ({"fraction": 0}, r"simulation.screening.fraction: expected a number in \(0, 1\], got 0"),
     ({"fraction": 1.5}, r"simulation.screening.fraction: expected a number in \(0, 1\]"),
-    ({"correction": "gp"}, "simulation.screening.correction: expected nearest or offset, got 'gp'"),
+    ({"correction": "gp"}, "simulation.screening.correction: expected ratio, nearest or offset, got 'gp'"),
     ({"neighbours": 0}, "simulation.screening.neighbours: expected a whole number >= 1"),
     ({"share": 0.2}, "simulation.screening.share: unknown setting"),
     (0.25, "simulation.screening: expected a mapping"),
@@ -141,13 +181,14 @@ def test_screening_needs_the_serial_backend_and_one_objective():
         prepare(parse_config(multi), "run.yaml")
 
 
-def test_nearest_simulates_the_best_plan_of_a_tool_not_simulated_yet():
+@pytest.mark.parametrize("correction", ["ratio", "nearest"])
+def test_a_local_correction_simulates_the_best_plan_of_a_tool_not_simulated_yet(correction):
     # analytic ranks the tool-1 plans last; with no tool-1 pair their correction is a guess,
     # so the best-predicted tool-1 plan is simulated beside the best quarter
     fake = FakeProblem(np.full(8, 0.5))
     X = fake_batch(np.arange(1, 9) * 10.0)
     X[5:, 0] = 1.0  # rows 5, 6, 7 use tool 1
-    screen = Screening({"fraction": 0.25})
+    screen = Screening({"fraction": 0.25, "correction": correction})
     _, cost = screen.evaluate(fake, X)
     assert fake.asked == [0, 1, 5] and cost.sum() == 3
     fake.asked = []

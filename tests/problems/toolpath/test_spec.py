@@ -224,7 +224,7 @@ def test_the_simulation_settings_are_typed_in_the_spec_and_the_criteria_take_the
     problem = ToolpathProblem(spec)
     sim = problem.simulated
     assert sim.settings is spec.simulation and sim.vertical and sim.grid_mm == 2.0
-    assert sim.screening.fraction == 0.5 and sim.screening.correction == "nearest"
+    assert sim.screening.fraction == 0.5 and sim.screening.correction == "ratio"
     assert ToolpathProblem(**SIM, fixed=FIXED).simulated.settings == SimulationSettings()
     # a plain mapping given to the criteria directly is validated by the same model
     assert SimulatedCriteria(None, {"grid_mm": 2, "rays": "vertical",
