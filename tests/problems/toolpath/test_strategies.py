@@ -500,3 +500,58 @@ def test_a_point_section_leans_like_the_zone_s_other_passes():
     a, n, t = batch.axis, batch.normal, batch.tangent
     np.testing.assert_allclose(np.linalg.norm(t, axis=1), 1.0)
     np.testing.assert_allclose(np.einsum("ij,ij->i", a, n), np.cos(np.radians(10.0)), atol=1e-9)
+
+
+@pytest.mark.parametrize("D, r", [(12.0, 6.0), (16.0, 3.0)])
+def test_5axis_cross_width_is_the_closed_form_on_a_plane_standing_upright(D, r):
+    """Lead 0, tilt 0, kappa 0: the cutter stands on the plane and its profile across the
+    feed is its own: a ball leaves h_c at half-spacing sqrt(2 R h - h^2), a torus at
+    (R - r) + sqrt(2 r h - h^2)."""
+    from evoplan.problems.toolpath.cutters import make_cutter
+    from evoplan.problems.toolpath.plan.strategies.offsets import profile_cross_width
+
+    h = 0.02
+    R = D / 2
+    w = profile_cross_width(make_cutter(D, r), h, np.zeros(3), 0.0, 0.0)
+    want = 2 * ((R - r) + np.sqrt(2 * r * h - h * h))
+    # the profile table is interpolated linearly between its samples, above the convex arc:
+    # the width comes out a little under the closed form, never over it
+    assert np.all(w <= want * (1 + 1e-9)) and np.all(w >= want * (1 - 1e-3)), (w, want)
+
+
+def test_5axis_cross_width_leaves_h_c_by_the_model_the_criteria_judge_by():
+    """Torus D16 r3 at lead 10 and tilt 0, and at tilt 1.5 deg (two different sides), over
+    convex and concave sections: at the returned width the analytic criteria's gap height
+    (``criteria/scallop.gap_heights``, near pair) is h_c on the side that faces the gap
+    narrowest, and just under it on the other."""
+    from evoplan.problems.toolpath.criteria.scallop import profile_height
+    from evoplan.problems.toolpath.cutters import make_cutter
+    from evoplan.problems.toolpath.plan.strategies.offsets import profile_cross_width
+
+    cutter, h = make_cutter(16.0, 3.0), 0.02
+    kappa = np.array([-0.02, -0.005, 0.0, 0.005, 0.012])
+    for tilt in (0.0, np.radians(1.5)):
+        lead = np.radians(10.0)
+        w = profile_cross_width(cutter, h, kappa, lead, tilt)
+        tables = cutter.swept_profile(np.array([lead]), np.array([tilt]))
+        half = w / 2
+        cusp = np.array([profile_height(tables, np.full(len(w), row), half) - 0.5 * kappa * half ** 2
+                         for row in (0, 1)])  # (side, point)
+        np.testing.assert_allclose(cusp.max(axis=0), h, atol=1e-9)
+        assert (cusp <= h + 1e-9).all()
+        assert np.all(np.diff(w) > 0)  # a concave section allows wider passes
+        if tilt:  # the two sides differ: the other one is strictly under h_c somewhere
+            assert (cusp.min(axis=0) < h - 1e-6).any()
+
+
+def test_5axis_isoscallop_plan_meets_its_target_by_its_own_criteria():
+    """Fountas' part, torus D16 r3 at lead 10: the passes are placed by the model the
+    analytic criteria measure the plan by, so its analytic scallop max is h_c: to 0.5 %, as
+    the criteria take each gap back from the XY chord between the passes, not the walk on the
+    surface (0.02005 here); with the lead/tilt circle it was 0.0208 against h_c 0.02."""
+    from evoplan.problems.toolpath import ToolpathProblem
+
+    pr = ToolpathProblem(surface="fountas", machine="5axis", h_c=0.02, tolerance=0.01,
+                         fixed={"lead": 10.0, "tilt": 0.0, "step": 5.0}, strategy="isoscallop")
+    crit = pr.evaluate_params({"tool": 6})
+    assert 0.0195 <= crit["scallop_max"] <= 0.02 * 1.005, crit["scallop_max"]

@@ -20,8 +20,9 @@ Per zone (the planner's zone layout: labels, feed direction alpha, adaptive plan
   downhill), the next pass's frame taken where w puts it (twice); then checked against the
   two passes' real sweeps over the surface between them (``offsets.cusp_heights``: the
   model's one curvature and straight passes fail on ridges and bends) and narrowed where
-  they leave more than h_c (three times). 5-axis: the lead/tilt effective radius and the
-  normal curvature (``offsets.cross_width``). Widths are smoothed along the pass without
+  they leave more than h_c (three times). 5-axis: the cutter's profile swept at the plan's
+  lead and tilt against the normal curvature, the analytic criteria's model
+  (``offsets.profile_cross_width``). Widths are smoothed along the pass without
   ever exceeding a raw width within +-2 mm.
 - **Clean-up**: the loops of the new pass (the swallowtail where the pass bends towards
   its offsets) are cut out at their crossing (``offsets.untangle``), and a corner pass runs
