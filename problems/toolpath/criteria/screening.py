@@ -200,13 +200,14 @@ class Screening:
         """(m, k) what the correction learns from simulated plans: the residual s - a of the
         objective, or for ``ratio`` the log ratio of each simulated criterion (``measured``)
         the objective weighs to its analytic value (floored by ``RATIO_FLOOR``)."""
-        sim = measured
         if self.correction != "ratio":
             return (s - a)[:, None]
         if self._names is None:
-            self._names = tuple(n for n in problem.weights if n in sim and problem.weights[n] != 0)
-        return np.column_stack([np.log((sim[n] + RATIO_FLOOR) / (crit[n] + RATIO_FLOOR))
-                                for n in self._names]).reshape(len(s), len(self._names))
+            self._names = tuple(n for n in problem.weights if n in measured and problem.weights[n] != 0)
+        y = np.empty((len(s), len(self._names)))  # no column: an objective of no simulated criterion
+        for c, name in enumerate(self._names):
+            y[:, c] = np.log((measured[name] + RATIO_FLOOR) / (crit[name] + RATIO_FLOOR))
+        return y
 
     def _untried(self, cat: np.ndarray, p: np.ndarray) -> np.ndarray:
         """The best-predicted plan of each tool (and strategy) of the batch of which no plan

@@ -194,3 +194,13 @@ def test_a_local_correction_simulates_the_best_plan_of_a_tool_not_simulated_yet(
     fake.asked = []
     _, cost = screen.evaluate(fake, X)  # both tools known now: the best quarter alone
     assert len(fake.asked) == 2 and cost.sum() == 2
+
+
+def test_ratio_correction_of_an_objective_that_weighs_no_simulated_criterion_is_the_analytic_value():
+    fake = FakeProblem(np.array([0.3, 0.3]))
+    fake.weights, fake.norm_bounds = {"cc_count": 1.0}, {"cc_count": (0.0, 1.0)}
+    screen = Screening({"correction": "ratio"})
+    X = fake_batch(np.array([30.0, 70.0]))
+    crit = {"machining_error": np.array([0.3, 0.7]), "cc_count": np.array([0.2, 0.4])}
+    screen.learn(fake, X[:1], {k: v[:1] for k, v in crit.items()}, {"machining_error": np.array([0.1])})
+    np.testing.assert_array_equal(screen.predicted(fake, X, crit), [0.2, 0.4])
