@@ -9,7 +9,9 @@ simulation (``criteria: simulated``), optimized by the GA of ``runs/fountas_tool
 
 - ``full``: every new plan is simulated (``criteria: simulated``);
 - ``ratio``, ``nearest``, ``offset``: ``simulation.screening`` (``criteria/screening.py``,
-  fraction 0.25 and the elite) with that correction.
+  fraction 0.25 and the elite) with that correction and ``error_quantile`` ``--error-quantile``
+  (the fraction simulated only where predicted within that quantile of the recent prediction
+  errors of the best); ``ratio_no_margin``: the ratio correction, the whole fraction.
 
 ``--error`` chooses Eq. 9's machining error: ``max``, the largest deviation (the paper's;
 a coarse grid samples a cusp below its top, so it depends on where the cusps fall between
@@ -23,7 +25,8 @@ pair the arms' initial populations), and the simulations the screened runs need 
 median best-so-far to reach the full simulation's final median.
 
     python runs/bench/screening.py [--seeds 10] [--budget 400] [--grid 1.0] [--fraction 0.25]
-        [--error max|mean] [--check-grid G] [--arms full ratio] [--out PATH | --regenerate]
+        [--error max|mean] [--error-quantile Q] [--check-grid G] [--arms full ratio]
+        [--out PATH | --regenerate]
 """
 
 from __future__ import annotations
@@ -61,11 +64,13 @@ def objective(error: str) -> dict:
 
 
 def one_run(arm: str, seed: int, budget: int, grid: float, fraction: float, error: str,
-            check_grid: float | None = None) -> dict:
+            check_grid: float | None = None, quantile: float | None = 0.5) -> dict:
     """One GA run of an arm: its best-so-far trace over simulations, counts and CPU time."""
     sim = {"grid_mm": grid}
     if arm != "full":
-        sim["screening"] = {"fraction": fraction, "correction": arm}
+        correction, _, rule = arm.partition("_")
+        sim["screening"] = {"fraction": fraction, "correction": correction,
+                            "error_quantile": None if rule == "no_margin" else quantile}
     problem = ToolpathProblem(criteria="simulated", simulation=sim, **objective(error))
     states = []
     t0 = time.process_time()
@@ -116,7 +121,10 @@ def main() -> None:
                     help="Eq. 9's machining error: the largest deviation (the paper's) or the area mean")
     ap.add_argument("--check-grid", type=float, default=None,
                     help="also simulate each run's best on this finer grid (mm), not counted in the budget")
-    ap.add_argument("--arms", nargs="+", choices=["full", "ratio", "nearest", "offset"], default=["full", "ratio"])
+    ap.add_argument("--arms", nargs="+", choices=["full", "ratio", "nearest", "offset", "ratio_no_margin"],
+                    default=["full", "ratio"])
+    ap.add_argument("--error-quantile", type=float, default=0.5,
+                    help="the screened arms' simulation.screening.error_quantile (the _no_margin arm: none)")
     add_report_options(ap)
     args = ap.parse_args()
     resolve_report_paths(args, __file__)
@@ -128,7 +136,7 @@ def main() -> None:
         runs[arm] = []
         for seed in seeds:
             runs[arm].append(one_run(arm, seed, args.budget, args.grid, args.fraction, args.error,
-                                    args.check_grid))
+                                    args.check_grid, args.error_quantile))
             r = runs[arm][-1]
             print(f"{arm:8s} seed {seed:2d}: best {r['best']:.4f} after {r['simulations']} simulations, "
                   f"{r['plans']} plans, {r['generations']} generations, {r['cpu']:.1f} s CPU"
@@ -141,22 +149,27 @@ def main() -> None:
     full = runs.get("full")
     target = float(np.median([r["best"] for r in full])) if full else None
     cmd = (f"python runs/bench/screening.py --seeds {args.seeds} --budget {B} --grid {args.grid:g}"
-           f" --fraction {args.fraction:g} --error {args.error} --arms {' '.join(args.arms)}"
+           f" --fraction {args.fraction:g} --error {args.error} --error-quantile {args.error_quantile:g}"
+           f" --arms {' '.join(args.arms)}"
            + ("" if args.check_grid is None else f" --check-grid {args.check_grid:g}"))
     fine_head = "" if args.check_grid is None else f" the same bests simulated at {args.check_grid:g} mm |"
     lines = [f"# Screening vs full simulation: Fountas 5-axis, GA, {B} simulations a run, seeds 1-{args.seeds}", "",
              f"`{cmd}`", "",
              f"Cut simulation on a {args.grid:g} mm grid (rays along the normal); screening fraction "
-             f"{args.fraction:g} plus the elite. Every run's best was checked against a fresh "
+             f"{args.fraction:g} (each plan of it simulated only where predicted within the "
+             f"{args.error_quantile:g} quantile of the screen's recent prediction errors of the best; "
+             "`_no_margin`: the whole fraction) plus the elite. Every run's best was checked against a fresh "
              "simulation of its plan: equal, bit for bit.", "",
-             "| arm | final objective, median (quartiles) | best at B/4 | plans evaluated | generations | "
-             "simulations to reach the full median | CPU s a run |" + fine_head,
-             "|---|---|---|---|---|---|---|" + ("---|" if fine_head else "")]
+             "| arm | final objective, median (quartiles) | best at B/4 | simulations used | plans evaluated | "
+             "generations | simulations to reach the full median | CPU s a run |" + fine_head,
+             "|---|---|---|---|---|---|---|---|" + ("---|" if fine_head else "")]
     for arm, rs in runs.items():
         reach = needed(rs, target, B) if target is not None else None
         lines.append(
             f"| {arm} | {quartiles([r['best'] for r in rs])} | "
-            f"{np.median([best_at(r, B // 4) for r in rs]):.4f} | {np.median([r['plans'] for r in rs]):.0f} | "
+            f"{np.median([best_at(r, B // 4) for r in rs]):.4f} | {np.median([r['simulations'] for r in rs]):.0f} "
+            f"({min(r['simulations'] for r in rs)} - {max(r['simulations'] for r in rs)}) | "
+            f"{np.median([r['plans'] for r in rs]):.0f} | "
             f"{np.median([r['generations'] for r in rs]):.0f} | "
             f"{'-' if reach is None else reach} | {np.median([r['cpu'] for r in rs]):.1f} |"
             + (f" {quartiles([r['fine'] for r in rs])} |" if fine_head else ""))
@@ -172,7 +185,8 @@ def main() -> None:
             reach = needed(rs, target, B)
             ratio = "not reached" if reach is None else f"{B / reach:.1f}x fewer simulations"
             per_seed = [next((c for c in range(1, B + 1) if best_at(r, c) <= target), None) for r in rs]
-            lines += [f"- **{arm}** vs full at {B} simulations each: Wilcoxon signed-rank p = {p_eq:.3g} "
+            lines += [f"- **{arm}** vs full at a budget of {B} simulations each (a run stops earlier when "
+                      f"its cache stalls: no new simulation in 100 generations): Wilcoxon signed-rank p = {p_eq:.3g} "
                       f"(screening better in {sum(y < x for x, y in zip(a, b))} of {len(a)} seeds); "
                       f"{arm} after {B // 4} simulations vs full after {B}: p = {p_q:.3g} "
                       f"(better or equal in {sum(y <= x for x, y in zip(a, quarter))} of {len(a)}).",

@@ -7,10 +7,14 @@ evaluated in rounds:
 1. every plan gets its analytic criteria and Eq. 9 objective ``a`` (``criteria/analytic.py``,
    a few ms a plan) and a prediction ``p`` of its simulated objective, corrected by what
    the pairs (analytic, simulated) this run has simulated so far teach;
-2. the ``ceil(fraction n)`` plans of lowest ``p`` are simulated (``criteria/simulated.py``);
-   with a local correction (``ratio``, ``nearest``), so is the best-predicted plan of each
-   tool (and strategy) of the batch that has no simulated plan yet (at most one simulation
-   per tool in a run);
+2. the ``ceil(fraction n)`` plans of lowest ``p`` are simulated (``criteria/simulated.py``),
+   those of them predicted within a margin of the best simulated objective so far: the
+   ``error_quantile`` (default 0.5) of the screen's last 50 prediction errors (what the
+   simulation of a plan found minus its prediction, in absolute value), once 10 are known
+   (``error_quantile: null`` or ``fraction: 1``: no margin, the whole fraction). A batch
+   with nothing that promising costs no simulation. With a local correction (``ratio``,
+   ``nearest``), the best-predicted plan of each tool (and strategy) of the batch that has
+   no simulated plan yet is simulated too (at most one simulation per tool in a run);
 3. every plan not yet simulated whose prediction, re-made with the new pairs, is at or below
    the best simulated objective so far (the **elite**: a plan that could become the run's
    best) is simulated too; step 3 repeats until no such plan is left.
@@ -60,6 +64,10 @@ __all__ = ["Screening", "ScreeningSettings", "CORRECTIONS", "settings_error"]
 #: ways to predict a plan's simulated objective from its analytic one
 CORRECTIONS = ("ratio", "nearest", "offset")
 
+#: the prediction errors the margin of :meth:`Screening.margin` is a quantile of (the
+#: latest), and how many it needs first
+ERROR_WINDOW, ERROR_MIN = 50, 10
+
 #: mm added to a simulated and an analytic criterion before their ratio: the ratio of two
 #: near-zero deviations (a plan that leaves no gouge) is noise, not a scale
 RATIO_FLOOR = 1e-3
@@ -79,12 +87,16 @@ class ScreeningSettings(BaseModel):
     correction: Literal["ratio", "nearest", "offset"] = Field(
         "ratio", description="how a plan's simulated objective is predicted from its analytic one")
     neighbours: int = Field(3, description="simulated plans the nearest correction averages (>= 1)")
+    error_quantile: float | None = Field(
+        0.5, description="simulate the fraction only where its prediction is within this quantile "
+                         "of the screen's recent prediction errors of the best; in (0, 1], null: always")
 
     @model_validator(mode="before")
     @classmethod
     def _mapping(cls, data):
         if not isinstance(data, (dict, ScreeningSettings)):
-            raise ValueError(f"expected a mapping (fraction, correction, neighbours), got {data!r}")
+            raise ValueError(f"expected a mapping (fraction, correction, neighbours, error_quantile), "
+                             f"got {data!r}")
         return data
 
     @field_validator("fraction", mode="before")
@@ -100,6 +112,15 @@ class ScreeningSettings(BaseModel):
         if v not in CORRECTIONS:
             raise ValueError(f"expected {', '.join(CORRECTIONS[:-1])} or {CORRECTIONS[-1]}, got {v!r}")
         return v
+
+    @field_validator("error_quantile", mode="before")
+    @classmethod
+    def _quantile(cls, v):
+        if v is None:
+            return None
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not 0 < v <= 1:
+            raise ValueError(f"expected a number in (0, 1] or null, got {v!r}")
+        return float(v)
 
     @field_validator("neighbours", mode="before")
     @classmethod
@@ -145,6 +166,8 @@ class Screening:
         self.fraction = settings.fraction
         self.correction = settings.correction
         self.neighbours = settings.neighbours
+        self.error_quantile = settings.error_quantile
+        self._errors: list[float] = []  # |simulated - predicted| of the plans simulated, in order
         self.best = math.inf  # the best simulated objective returned so far
         self.simulations = 0
         self.screened = 0  # plans valued by their prediction alone
@@ -252,6 +275,16 @@ class Screening:
         z, cat = self._features(problem, X)
         return self.predict(problem, crit, a, z, cat)
 
+    def margin(self) -> float:
+        """How far above the best simulated objective a plan of the fraction may be predicted
+        and still be simulated: the ``error_quantile`` of the last ``ERROR_WINDOW``
+        prediction errors once ``ERROR_MIN`` are known, else (and with ``fraction`` 1 or no
+        quantile) no limit."""
+        if self.error_quantile is None or self.fraction >= 1 or len(self._errors) < ERROR_MIN \
+                or not np.isfinite(self.best):
+            return math.inf
+        return float(np.quantile(self._errors[-ERROR_WINDOW:], self.error_quantile))
+
     # -- a batch --------------------------------------------------------------------------
     def evaluate(self, problem, X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """``(F (n, 1), cost (n,))`` of the checked rows X of ``problem`` (a ToolpathProblem
@@ -271,11 +304,14 @@ class Screening:
         done = np.zeros(n, bool)
         take = np.zeros(n, bool)
         take[np.argsort(f, kind="stable")[: math.ceil(self.fraction * n)]] = True
+        take &= f <= self.best + self.margin()
         if self.correction != "offset":
             take |= self._untried(self._features(problem, X)[1], f)
         while take.any():
             rows = np.flatnonzero(take)
             s = self.learn(problem, X[rows], pick(rows), problem.simulate_rows(genes, rows))
+            miss = np.abs(s - f[rows])
+            self._errors += miss[np.isfinite(miss)].tolist()
             f[rows], done[rows] = s, True
             if np.isfinite(s).any():
                 self.best = min(self.best, float(np.min(s[np.isfinite(s)])))

@@ -204,3 +204,36 @@ def test_ratio_correction_of_an_objective_that_weighs_no_simulated_criterion_is_
     crit = {"machining_error": np.array([0.3, 0.7]), "cc_count": np.array([0.2, 0.4])}
     screen.learn(fake, X[:1], {k: v[:1] for k, v in crit.items()}, {"machining_error": np.array([0.1])})
     np.testing.assert_array_equal(screen.predicted(fake, X, crit), [0.2, 0.4])
+
+
+@pytest.mark.parametrize("quantile", [0.5, None])
+def test_a_batch_with_nothing_predicted_near_the_best_costs_no_simulation(quantile):
+    # the simulation finds what the analytic model says: every prediction error is 0, so once
+    # ten errors are known the margin is 0 and only plans predicted at the best are simulated
+    fake = FakeProblem((np.arange(8) + 1) / 10)
+    screen = Screening({"fraction": 0.25, "correction": "offset", "error_quantile": quantile})
+    X = fake_batch((np.arange(8) + 1) * 10.0)
+    for _ in range(5):  # two simulations a batch: ten errors
+        screen.evaluate(fake, X)
+    assert screen.best == 0.1 and len(fake.asked) == 10
+    fake.asked = []
+    F, cost = screen.evaluate(fake, fake_batch((np.arange(8) + 2) * 10.0))  # predicted 0.2 .. 0.9
+    if quantile is None:  # the whole fraction, as before
+        assert fake.asked == [0, 1] and cost.sum() == 2
+    else:
+        assert fake.asked == [] and cost.sum() == 0
+        np.testing.assert_allclose(F[:, 0], (np.arange(8) + 2) / 10)
+        assert screen.margin() == 0.0
+    fake.asked = []
+    _, cost = screen.evaluate(fake, fake_batch(np.array([5.0, 60.0])))  # 0.05: under the best
+    assert fake.asked[0] == 0 and cost[0] == 1
+
+
+@pytest.mark.parametrize("value", [0, 1.5, True, "half"])
+def test_bad_error_quantiles_are_one_line_errors(value):
+    run = {**RUN, "problem": {"name": "toolpath", "params": {
+        "criteria": "simulated", "normalization": NORM,
+        "simulation": {"grid_mm": GRID, "screening": {"error_quantile": value}}}}}
+    with pytest.raises(ConfigError, match=r"simulation.screening.error_quantile: expected a number in \(0, 1\] or null") as e:
+        prepare(parse_config(run), "run.yaml")
+    assert "\n" not in str(e.value)

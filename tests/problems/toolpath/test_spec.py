@@ -205,8 +205,8 @@ SIM = {"criteria": "simulated"}
     ({"threads": 1.5}, "simulation.threads: expected a whole number of threads >= 1, got 1.5"),
     ({"colour": 1}, "simulation.colour: unknown setting (known: allowance, grid_mm, rays, screening, threads)"),
     (5, "simulation: expected a mapping of settings, got 5"),
-    ({"screening": 0.25}, "simulation.screening: expected a mapping (fraction, correction, neighbours), got 0.25"),
-    ({"screening": {"share": 1}}, "simulation.screening.share: unknown setting (known: correction, fraction, neighbours)"),
+    ({"screening": 0.25}, "simulation.screening: expected a mapping (fraction, correction, neighbours, error_quantile), got 0.25"),
+    ({"screening": {"share": 1}}, "simulation.screening.share: unknown setting (known: correction, error_quantile, fraction, neighbours)"),
     ({"screening": {"neighbours": True}}, "simulation.screening.neighbours: expected a whole number >= 1, got True"),
 ])
 def test_bad_simulation_settings_are_one_line_naming_the_key(simulation, line):
