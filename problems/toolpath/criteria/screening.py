@@ -45,8 +45,9 @@ prediction errors of the best 30 % are, RMS, 0.010 (ratio), 0.055 (nearest) and 
 largest one (which the 1 mm grid samples below the cusps' tops: see
 ``runs/bench/screening.md``).
 
-The correction's pairs live in this object, not in the run's checkpoint: a resumed run
-relearns them from the simulations after the resume (its best stays a simulated plan).
+The correction's pairs and the prediction errors live in this object, not in the run's
+checkpoint: a resumed run relearns them from the simulations after the resume (its best
+stays a simulated plan).
 """
 
 from __future__ import annotations
@@ -167,7 +168,7 @@ class Screening:
         self.correction = settings.correction
         self.neighbours = settings.neighbours
         self.error_quantile = settings.error_quantile
-        self._errors: list[float] = []  # |simulated - predicted| of the plans simulated, in order
+        self._errors: list[float] = []  # |simulated - predicted| of the latest plans simulated
         self.best = math.inf  # the best simulated objective returned so far
         self.simulations = 0
         self.screened = 0  # plans valued by their prediction alone
@@ -283,7 +284,7 @@ class Screening:
         if self.error_quantile is None or self.fraction >= 1 or len(self._errors) < ERROR_MIN \
                 or not np.isfinite(self.best):
             return math.inf
-        return float(np.quantile(self._errors[-ERROR_WINDOW:], self.error_quantile))
+        return float(np.quantile(self._errors, self.error_quantile))
 
     # -- a batch --------------------------------------------------------------------------
     def evaluate(self, problem, X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -311,7 +312,7 @@ class Screening:
             rows = np.flatnonzero(take)
             s = self.learn(problem, X[rows], pick(rows), problem.simulate_rows(genes, rows))
             miss = np.abs(s - f[rows])
-            self._errors += miss[np.isfinite(miss)].tolist()
+            self._errors = (self._errors + miss[np.isfinite(miss)].tolist())[-ERROR_WINDOW:]
             f[rows], done[rows] = s, True
             if np.isfinite(s).any():
                 self.best = min(self.best, float(np.min(s[np.isfinite(s)])))
