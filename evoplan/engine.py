@@ -245,25 +245,42 @@ def settle(state: RunState, pending: Pending, result: Evaluation | None) -> np.n
         state.cache_hits += hits
     costed = not charge_hits and result is not None and result.cost is not None
     total = n if charge_hits else (int(result.cost.astype(np.int64).sum()) if costed else todo.size)
-    if n and f.min() < state.best_f:  # improvements (rare): the evaluation number of each
-        charged = np.ones(n, dtype=np.int64) if charge_hits else np.zeros(n, dtype=np.int64)
-        if not charge_hits:  # what each row costs the budget
-            charged[todo] = result.cost if costed else 1
-        index = state.evaluations + np.cumsum(charged)
-        previous = np.minimum.accumulate(np.concatenate([[state.best_f], f]))[:-1]
-        for i in np.flatnonzero(f < previous):
-            state.improvements.append((int(index[i]), float(f[i])))
+    if n and f.min() < state.best_f:  # improvements: the evaluation number of each
+        _record_improvements(state, f, todo, charge_hits, result.cost if costed else None)
         i = int(np.argmin(f))
         state.best_f, state.best_g = float(f[i]), G[i].copy()
     state.evaluations += total
     return f
 
 
+def _record_improvements(state: RunState, f: np.ndarray, todo: np.ndarray, charge_hits: bool,
+                         cost: np.ndarray | None) -> None:
+    """Append ``(evaluation number, value)`` for each row of the batch ``f`` below every value
+    before it (the run's best included). Row ``i`` is evaluation ``evaluations + the cost
+    charged for rows 0..i``: every row costs 1 when hits are charged, else the rows ``todo``
+    (ascending) cost ``cost`` each (1 where None). Only the rows under the run's best are
+    visited: a few, where a running minimum over the batch would cost a pass of its own."""
+    candidates = np.flatnonzero(f < state.best_f)
+    if charge_hits:
+        index = state.evaluations + candidates + 1
+    else:
+        charged = np.cumsum(cost.astype(np.int64)) if cost is not None else np.arange(1, todo.size + 1)
+        before = np.searchsorted(todo, candidates, side="right")  # charged rows up to each
+        index = state.evaluations + np.where(before > 0, charged[np.maximum(before - 1, 0)], 0)
+    best = state.best_f
+    for i, k in zip(candidates.tolist(), index.tolist()):
+        if f[i] < best:
+            best = float(f[i])
+            state.improvements.append((int(k), best))
+
+
 def evaluate(state: RunState, G: np.ndarray, space: Space, evaluator: Evaluator) -> np.ndarray:
     """Objective values of the batch ``G``: cached ones looked up, new ones evaluated and counted."""
     pending = lookup(state, G)
-    result = evaluator(space.decode(G[pending.todo])) if pending.todo.size else None
-    return settle(state, pending, result)
+    todo = pending.todo
+    if not todo.size:
+        return settle(state, pending, None)
+    return settle(state, pending, evaluator(space.decode(G if todo.size == len(G) else G[todo])))
 
 
 def _count_failures(state: RunState, result: Evaluation) -> None:

@@ -5,6 +5,8 @@ from __future__ import annotations
 import numba
 import numpy as np
 
+from .selection_kernels import wheel_indices
+
 
 @numba.njit(cache=True, inline="always")
 def _child(out, k, G, p, q, s, e):
@@ -33,3 +35,34 @@ def breed_pairs(G, a, b, lo, hi, loci, n_children):
         if loci[k] >= 0:
             out[k, loci[k]] = not out[k, loci[k]]
     return out
+
+
+@numba.njit(cache=True)
+def breed_ranked_single_point(G, order, factors, scale, u_select, cut, u_cross, cross_rate,
+                              u_mutate, locus, mutation_rate, n_children):
+    """One generation's children by the paper's default operators, from their drawn numbers:
+    Eq. 10 on ranks (``fitness[order[r]] = scale * factors[r]``), a roulette wheel over the
+    population's cumulative fitness (:func:`.selection_kernels.wheel_indices` on ``u_select``:
+    the first half of the draws picks the pairs' first parents), single-point crossover
+    (pair ``i`` swaps ``[cut[i], L)`` where ``u_cross[i] < cross_rate``) and single-point
+    mutation (child ``k`` flips ``locus[k]`` where ``u_mutate[k] < mutation_rate``).
+
+    The same children, bit for bit, as ``exponential_fitness`` -> ``roulette`` ->
+    ``single_point_segments`` -> ``single_point_loci`` -> :func:`breed_pairs` on the same
+    draws: each value is formed by the same floating-point operations in the same order."""
+    N, L = G.shape
+    cum = np.empty(N)
+    for r in range(N):
+        cum[order[r]] = scale * factors[r]
+    for i in range(1, N):
+        cum[i] += cum[i - 1]
+    parents = wheel_indices(cum, u_select)
+    m = cut.size
+    lo = np.empty(m, dtype=np.int64)
+    hi = np.full(m, L, dtype=np.int64)
+    for i in range(m):
+        lo[i] = cut[i] if u_cross[i] < cross_rate else L
+    flips = np.empty(n_children, dtype=np.int64)
+    for k in range(n_children):
+        flips[k] = locus[k] if u_mutate[k] < mutation_rate else -1
+    return breed_pairs(G, parents[:m], parents[m:], lo, hi, flips, n_children)

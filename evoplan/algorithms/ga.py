@@ -13,7 +13,7 @@ import numpy as np
 from pydantic import AliasChoices, BaseModel, ConfigDict, Field, model_validator
 
 from ..operators import crossover, elitism, fitness, mutation, selection
-from ..operators.breeding import breed
+from ..operators.breeding import breed, breed_ranked_single_point
 from .base import Algorithm
 
 
@@ -82,6 +82,14 @@ class GA(Algorithm):
         self.config = config
         self._pending_elite = np.empty(0, dtype=np.intp)
 
+    @property
+    def _paper_operators(self) -> bool:
+        """Rank Eq. 10, roulette, single-point crossover and mutation (what
+        :func:`~evoplan.operators.breeding.breed_ranked_single_point` breeds in one pass)."""
+        c = self.config
+        return (c.fitness.normalize == "rank" and c.selection.kind == "roulette"
+                and c.crossover.kind == "single_point" and c.mutation.kind == "single_point")
+
     # -- one generation of host evolution, as named steps ------------------------------------
     def scaled_fitness(self, f: np.ndarray, order: np.ndarray | None = None) -> np.ndarray:
         c = self.config.fitness
@@ -98,6 +106,11 @@ class GA(Algorithm):
         the population's stable sort when every value is finite)."""
         cfg = self.config
         n_children = cfg.population - cfg.elitism
+        if order is not None and self._paper_operators:  # the defaults: one compiled pass
+            children = breed_ranked_single_point(self.G, self.f, order, cfg.fitness.pressure,
+                                                 cfg.crossover.rate, cfg.mutation.rate, n_children, self.rng)
+            if children is not None:
+                return children
         n_pairs = (n_children + 1) // 2
         parents = self.select(self.scaled_fitness(self.f, order), 2 * n_pairs)
         L = self.G.shape[1]

@@ -18,6 +18,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from evoplan import compiled
 from evoplan.config import parse_config
 from evoplan.engine import run
 from evoplan.runner import prepare
@@ -88,11 +89,17 @@ def record() -> None:
     DATA.write_text(json.dumps(table, indent=1, sort_keys=True) + "\n")
 
 
+@pytest.mark.parametrize("mode", ["never", "always"])
 @pytest.mark.parametrize("case", CASES, ids=[c[0] for c in CASES])
-def test_same_run_bit_for_bit_as_recorded(case):
+def test_same_run_bit_for_bit_as_recorded(case, mode):
+    """Both forms of the core's loops (numpy, compiled: :mod:`evoplan.compiled`) give the run."""
     name, *args = case
     expected = json.loads(DATA.read_text())[name]
-    assert summary(execute(*args)) == expected
+    previous = compiled.set_mode(mode)
+    try:
+        assert summary(execute(*args)) == expected
+    finally:
+        compiled.set_mode(previous)
 
 
 def test_the_reference_covers_hits_fifo_drops_and_skipped_infections():

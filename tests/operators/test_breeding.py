@@ -95,3 +95,77 @@ def test_rank_factors_give_eq10_as_computed_from_the_ranks(n):
         assert np.array_equal(fitness.exponential_fitness(f, "rank", 2.0), expected)
     with pytest.raises(ValueError):
         fitness.rank_factors(n, 2.0)[0] = 1.0  # the memoized table is read-only
+
+
+def _numpy_mode(fn, *args):
+    previous = compiled.set_mode("never")
+    try:
+        return fn(*args)
+    finally:
+        compiled.set_mode(previous)
+
+
+@pytest.mark.parametrize("n, L, n_children", [(200, 46, 199), (31, 8, 30), (2, 2, 1), (2000, 46, 1999), (40, 10, 37)])
+def test_one_pass_breeding_equals_the_operators_one_by_one(n, L, n_children):
+    """Rank Eq. 10 -> roulette -> single-point crossover -> single-point mutation, compiled in
+    one pass: the operators' children and the generator's numbers, bit for bit, on values with
+    ties (clones) and of all signs."""
+    from evoplan.operators import selection
+
+    for seed in range(10):
+        rng = np.random.default_rng(seed)
+        G = rng.random((n, L)) < 0.5
+        f = np.round(rng.normal(size=n) * 10.0 ** rng.integers(-3, 4), 1)  # ties
+        order = np.argsort(f, kind="stable")
+        m = (n_children + 1) // 2
+
+        def one_by_one(r):
+            parents = selection.roulette(fitness.exponential_fitness(f, "rank", 2.0, order), 2 * m, r)
+            lo, hi = crossover.single_point_segments(m, L, 0.9, r)
+            loci = mutation.single_point_loci(n_children, L, 0.5, r)
+            return breeding.breed(G, parents[:m], parents[m:], lo, hi, loci, n_children)
+
+        r1, r2 = np.random.default_rng(seed), np.random.default_rng(seed)
+        expected = _numpy_mode(one_by_one, r1)
+        previous = compiled.set_mode("always")
+        try:
+            got = breeding.breed_ranked_single_point(G, f, order, 2.0, 0.9, 0.5, n_children, r2)
+        finally:
+            compiled.set_mode(previous)
+        assert got.dtype == bool and np.array_equal(got, expected)
+        assert r1.bit_generator.state == r2.bit_generator.state
+
+
+def test_one_pass_breeding_steps_aside_without_drawing():
+    """The numpy form, a single locus or a sum of values that could overflow: ``None`` and the
+    generator untouched (the GA then runs the operators one by one)."""
+    G = np.random.default_rng(0).random((10, 5)) < 0.5
+    f = np.arange(10.0)
+    order = np.argsort(f, kind="stable")
+    rng = np.random.default_rng(1)
+    state = rng.bit_generator.state
+    assert _numpy_mode(breeding.breed_ranked_single_point, G, f, order, 2.0, 0.9, 0.5, 9, rng) is None
+    previous = compiled.set_mode("always")
+    try:
+        assert breeding.breed_ranked_single_point(G[:, :1], f, order, 2.0, 0.9, 0.5, 9, rng) is None
+        assert breeding.breed_ranked_single_point(G, f * 1e299, order, 2.0, 0.9, 0.5, 9, rng) is None
+    finally:
+        compiled.set_mode(previous)
+    assert rng.bit_generator.state == state
+
+
+@pytest.mark.parametrize("N", [1, 2, 7, 200, 2000])
+def test_compiled_wheel_equals_the_binary_search(N):
+    """The guide-table wheel picks what ``searchsorted(side="right")`` picks, draws that fall
+    exactly on a boundary and runs of zero fitness (equal cumulative values) included."""
+    from evoplan.operators.selection_kernels import wheel_indices
+
+    rng = np.random.default_rng(N)
+    for kind in range(4):
+        fit = [rng.random(N), np.where((rng.random(N) < 0.5) & (np.arange(N) > 0), 0.0, rng.random(N)),
+               np.exp(-rng.random(N) * 40), np.round(rng.random(N), 1) + (np.arange(N) == 0)][kind]
+        cum = np.cumsum(fit)
+        u = np.concatenate([rng.random(3000), [0.0, np.nextafter(1.0, 0.0)], cum[:-1] / cum[-1]])
+        u = np.minimum(u, np.nextafter(1.0, 0.0))
+        expected = np.minimum(np.searchsorted(cum, u * cum[-1], side="right"), N - 1)
+        assert np.array_equal(wheel_indices(cum, u), expected)
