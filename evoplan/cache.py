@@ -68,6 +68,7 @@ def pack(G: np.ndarray) -> np.ndarray:
 
 
 CODE_BYTES = 6  # genotypes of up to 48 bits are keyed by an exact integer code
+RESERVE_SLOTS = 1 << 17  # slots a cache reserves at its first store (2 MB of codes and values)
 
 
 def key_dtype(width: int) -> np.dtype:
@@ -294,12 +295,14 @@ class EvaluationCache:
         self.next = int((self.next + m) % self.size)
 
     def _reserve(self, n: int) -> None:
-        """Room for ``n`` slots (capacity doubles, up to ``size``)."""
+        """Room for ``n`` slots: at once for up to :data:`RESERVE_SLOTS` (the memory is taken
+        page by page as slots fill, and nothing is copied as a run's cache grows), then by
+        doubling, up to ``size``. A slot not in use holds no value (``values`` is not read there)."""
         if n <= self.values.size:
             return
-        cap = min(self.size, max(64, 2 * self.values.size, n))
+        cap = min(self.size, max(RESERVE_SLOTS, 2 * self.values.size, n))
         codes = np.zeros(cap, dtype=self.codes.dtype)
-        values = np.full(cap, np.nan)
+        values = np.empty(cap)
         codes[: self.values.size], values[: self.values.size] = self.codes, self.values
         self.codes, self.values = codes, values
 

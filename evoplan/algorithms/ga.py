@@ -14,6 +14,7 @@ from pydantic import AliasChoices, BaseModel, ConfigDict, Field, model_validator
 
 from ..operators import crossover, elitism, fitness, mutation, selection
 from ..operators.breeding import breed, breed_ranked_single_point
+from ..operators.ranking import stable_order
 from .base import Algorithm
 
 
@@ -124,7 +125,7 @@ class GA(Algorithm):
             self._batch = self.rng.random((self.config.population, self.n_bits)) < 0.5
         else:
             f = self.f  # one stable sort gives the elite and the ranks (every value finite)
-            order = np.argsort(f, kind="stable") if np.isfinite(f).all() else None
+            order = stable_order(f) if np.isfinite(f).all() else None
             k = self.config.elitism
             self._pending_elite = order[:k] if order is not None else elitism.elite_indices(f, k)
             self._batch = self.offspring(order)

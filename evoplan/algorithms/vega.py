@@ -57,6 +57,7 @@ from pydantic import Field, model_validator
 
 from ..operators import viral
 from ..operators.viral_outcome import infect_pairs, infection_outcome
+from ..operators.ranking import stable_order
 from .ga import GA, GAConfig, _Strict
 
 
@@ -139,7 +140,7 @@ class VEGA(GA):
         c = self.vc.creation
         N = self.f.size
         pool = min(c.elite_pool, N)
-        order = np.argsort(np.where(np.isnan(self.f), np.inf, self.f), kind="stable")
+        order = stable_order(self.f)
         if exact:
             from_elite = np.arange(count) < round(c.elite_share * count)
         else:
