@@ -13,6 +13,7 @@ uninterrupted run would have drawn.
 
 from __future__ import annotations
 
+import math
 import os
 import tempfile
 import time
@@ -84,18 +85,18 @@ class RunState:
     def record(self) -> None:
         """Append the history row of the generation that just ended."""
         f = self.algorithm.f
-        total = np.add.reduce(f)
-        if not np.isfinite(total):
+        total = float(np.add.reduce(f))
+        if not math.isfinite(total):
             f = f[np.isfinite(f)]
-            total = np.add.reduce(f)
+            total = float(np.add.reduce(f))
         if f.size:  # mean, max, std as numpy computes them (same sums, same bits), in fewer calls
             mean = total / f.size
             d = f - mean
-            stats = (mean, f.max(), np.sqrt(np.add.reduce(d * d) / f.size))
+            stats = (mean, float(np.maximum.reduce(f)), math.sqrt(float(np.add.reduce(d * d)) / f.size))
         else:
-            stats = (np.nan, np.nan, np.nan)
+            stats = (math.nan, math.nan, math.nan)
         self.history.append(
-            (self.algorithm.generation, self.evaluations, self.best_f, *map(float, stats),
+            (self.algorithm.generation, self.evaluations, self.best_f, *stats,
              self.failures, self.cache_hits, round(self.elapsed, 6))
         )
 
@@ -234,9 +235,10 @@ def settle(state: RunState, pending: Pending, result: Evaluation | None) -> np.n
         f[todo] = result.f
         _count_failures(state, result)
         if cache is not None:
-            cache.store(keys[todo], result.f, fresh=True)
-    repeat = np.isnan(f)  # a row repeated inside the batch takes its first occurrence's value
-    f[repeat] = f[first[repeat]]
+            cache.store(keys if todo.size == n else keys[todo], result.f, fresh=True)
+    if todo.size < n:  # a row repeated inside the batch takes its first occurrence's value
+        repeat = np.isnan(f)
+        f[repeat] = f[first[repeat]]
     hits = n - todo.size
     charge_hits = cache is not None and cache.charge_hits
     if cache is not None:
@@ -245,7 +247,7 @@ def settle(state: RunState, pending: Pending, result: Evaluation | None) -> np.n
         state.cache_hits += hits
     costed = not charge_hits and result is not None and result.cost is not None
     total = n if charge_hits else (int(result.cost.astype(np.int64).sum()) if costed else todo.size)
-    if n and f.min() < state.best_f:  # improvements: the evaluation number of each
+    if n and np.minimum.reduce(f) < state.best_f:  # improvements: the evaluation number of each
         _record_improvements(state, f, todo, charge_hits, result.cost if costed else None)
         i = int(np.argmin(f))
         state.best_f, state.best_g = float(f[i]), G[i].copy()

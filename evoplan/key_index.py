@@ -16,7 +16,8 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-EMPTY = -1
+EMPTY = -1  # a look-up's answer for an absent key
+FREE = 0  # a free table cell: cells hold slot + 1, so a new table is zeros (no pages written)
 FIB = np.uint64(0x9E3779B97F4A7C15)
 MIN_BITS = 10
 MAX_START = 1 << 17  # entries a table is sized for at its start, at most (4 MB)
@@ -32,22 +33,22 @@ def _position(tkeys, tslots, shift, key):
     """The table index holding ``key``, else the empty one ending its probe run."""
     mask = tkeys.size - 1
     i = _home(key, shift)
-    while tslots[i] != EMPTY and tkeys[i] != key:
+    while tslots[i] != FREE and tkeys[i] != key:
         i = (i + 1) & mask
     return i
 
 
 @numba.njit(cache=True)
 def _find(tkeys, tslots, shift, key):
-    return tslots[_position(tkeys, tslots, shift, key)]  # EMPTY where absent
+    return tslots[_position(tkeys, tslots, shift, key)] - 1  # EMPTY where absent
 
 
 @numba.njit(cache=True)
 def _put(tkeys, tslots, shift, key, slot):
     """Set ``key -> slot``; True if the key was new."""
     i = _position(tkeys, tslots, shift, key)
-    new = tslots[i] == EMPTY
-    tkeys[i], tslots[i] = key, slot
+    new = tslots[i] == FREE
+    tkeys[i], tslots[i] = key, slot + 1
     return new
 
 
@@ -56,18 +57,18 @@ def _remove(tkeys, tslots, shift, key):
     """Delete ``key`` (backward-shift deletion); True if it was present."""
     mask = tkeys.size - 1
     i = _position(tkeys, tslots, shift, key)
-    if tslots[i] == EMPTY:
+    if tslots[i] == FREE:
         return False
     j = i
     while True:  # close the gap at i with the next entry of the run that may move into it
         j = (j + 1) & mask
-        if tslots[j] == EMPTY:
+        if tslots[j] == FREE:
             break
         home = _home(tkeys[j], shift)
         if ((j - home) & mask) >= ((j - i) & mask):  # i lies on j's probe path: move j to i
             tkeys[i], tslots[i] = tkeys[j], tslots[j]
             i = j
-    tslots[i] = EMPTY
+    tslots[i] = FREE
     return True
 
 
@@ -104,7 +105,7 @@ def _lookup_batch(tkeys, tslots, shift, keys):
     while (1 << bits) < 2 * n:
         bits += 1
     skeys = np.empty(1 << bits, dtype=np.int64)
-    sfirst = np.full(1 << bits, EMPTY, dtype=np.int64)
+    sfirst = np.zeros(1 << bits, dtype=np.int64)
     sshift = np.uint64(64 - bits)
     for k in range(n):
         slot[k] = _find(tkeys, tslots, shift, keys[k])
@@ -176,10 +177,11 @@ def _store_fresh(tkeys, tslots, shift, codes, values, keys, f, start, filled, si
 
 @numba.njit(cache=True)
 def _rehash(keys, slots, tkeys, tslots, shift):
-    """Insert the used entries of ``(keys, slots)`` into the empty table ``(tkeys, tslots)``."""
+    """Insert the used cells of ``(keys, slots)`` (slot + 1, FREE where unused) into the empty
+    table ``(tkeys, tslots)``."""
     for k in range(keys.size):
-        if slots[k] != EMPTY:
-            _put(tkeys, tslots, shift, keys[k], slots[k])
+        if slots[k] != FREE:
+            _put(tkeys, tslots, shift, keys[k], slots[k] - 1)
 
 
 class KeyIndex:
@@ -195,7 +197,7 @@ class KeyIndex:
     def _alloc(self, bits: int) -> None:
         self.bits = bits
         self.keys = np.zeros(1 << bits, dtype=np.int64)
-        self.slots = np.full(1 << bits, EMPTY, dtype=np.int64)
+        self.slots = np.zeros(1 << bits, dtype=np.int64)  # (FREE)
         self.shift = np.uint64(64 - bits)
 
     def __len__(self) -> int:

@@ -16,12 +16,14 @@ from ..compiled import use_compiled
 COMPILED_FROM = 512
 
 
-def stable_order(f: np.ndarray) -> np.ndarray:
+def stable_order(f: np.ndarray, finite: bool = False) -> np.ndarray:
     """``np.argsort(f, kind="stable")`` of ``f: (n,)`` with NaN ranked as ``inf`` (last, in
-    population order among the failures)."""
+    population order among the failures); ``finite``: the caller knows every value is."""
     f = np.asarray(f, dtype=float)
     if f.size >= COMPILED_FROM and use_compiled():
         from .ranking_kernels import radix_order  # numba: imported only when it pays
 
         return radix_order(f)
-    return np.argsort(np.where(np.isnan(f), np.inf, f) if np.isnan(f).any() else f, kind="stable")
+    if not finite and np.isnan(f).any():
+        f = np.where(np.isnan(f), np.inf, f)
+    return np.argsort(f, kind="stable")

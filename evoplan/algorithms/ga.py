@@ -125,7 +125,7 @@ class GA(Algorithm):
             self._batch = self.rng.random((self.config.population, self.n_bits)) < 0.5
         else:
             f = self.f  # one stable sort gives the elite and the ranks (every value finite)
-            order = stable_order(f) if np.isfinite(f).all() else None
+            order = stable_order(f, finite=True) if np.isfinite(f).all() else None
             k = self.config.elitism
             self._pending_elite = order[:k] if order is not None else elitism.elite_indices(f, k)
             self._batch = self.offspring(order)
