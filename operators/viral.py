@@ -91,7 +91,7 @@ def partial_transduction(
     right = rng.random(V) < 0.5
     # grow to the right: keep start; to the left: move start back. Clip into the host.
     new_start = np.where(right, start + (length + growth - new_len), start - growth)
-    new_start = np.clip(new_start, 0, L - new_len)
+    new_start = np.minimum(np.maximum(new_start, 0), L - new_len)  # (np.clip's numbers, without its wrapper)
     old = loci_mask(start, length, L)
     new = loci_mask(new_start, new_len, L)
     new_bits = np.where(old & new, bits, hosts) & new
@@ -133,4 +133,4 @@ def adapt_infection_rate(
     otherwise; then clipped to ``[MinInfRate, MaxInfRate] = [low, high]``.
     """
     factor = np.where(fitvirus > 0, 1.0 + step, np.where(fitvirus < 0, 1.0 - step, 1.0))
-    return np.clip(rate * factor, low, high)
+    return np.minimum(np.maximum(rate * factor, low), high)  # (np.clip's numbers, without its wrapper)
