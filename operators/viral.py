@@ -11,6 +11,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..compiled import use_compiled
+
 
 def loci_mask(start: np.ndarray, length: np.ndarray, L: int) -> np.ndarray:
     """``(V, L) bool``: True on each virus' loci ``[start, start + length)``."""
@@ -26,13 +28,17 @@ def transduction(
     ``hosts: (V, L)`` (one host per new virus). The length is uniform on
     ``[min_length, min(max_length, L)]``, the start uniform among the positions that keep the
     substring inside the host (Fountas: both loci "constrained to the host's chromosome length").
-    Returns ``(start, length, bits)``.
+    Returns ``(start, length, bits)`` (the bits by :mod:`.viral_kernels` once it pays: the same).
     """
     V, L = hosts.shape
     hi = max(1, min(int(max_length), L))
     lo = max(1, min(int(min_length), hi))
     length = rng.integers(lo, hi + 1, V)
     start = (rng.random(V) * (L - length + 1)).astype(np.int64)
+    if hosts.dtype == bool and use_compiled():
+        from .viral_kernels import substrings  # numba: imported only when it pays
+
+        return start, length, substrings(hosts, start, length)
     bits = hosts & loci_mask(start, length, L)
     return start, length, bits
 
@@ -82,10 +88,16 @@ def partial_transduction(
     infected) and keeping its own bits elsewhere. A virus already at ``max_length`` (Fountas'
     ``VrsLgth`` limit) slides its window by ``growth`` instead: it drops loci at one end and
     takes as many new ones from the host at the other, renewing part of itself.
-    Returns the new ``(start, length, bits)``.
+    Returns the new ``(start, length, bits)``; the compiled form (:mod:`.viral_kernels`, once
+    it pays) gives the same.
     """
     V, L = hosts.shape
     cap = min(int(max_length), L)
+    if hosts.dtype == bool and bits.dtype == bool and use_compiled():
+        from . import viral_kernels  # numba: imported only when it pays
+
+        return viral_kernels.partial_transduction(start.astype(np.int64), length.astype(np.int64), bits,
+                                                  hosts, cap, int(growth), rng.random(V) < 0.5)
     new_len = np.minimum(length + growth, cap)
     new_len = np.maximum(new_len, length)  # never shrink a virus that is already longer
     right = rng.random(V) < 0.5

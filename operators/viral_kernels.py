@@ -73,3 +73,34 @@ def infection_outcome(virus, host, changed, f_trial, f_host, n_viruses, improve)
         if improve and take[j]:
             take[j] = best_f[j] < f_host[j]
     return take, best, best_f, fitvirus, infected, best_pair
+
+
+@numba.njit(cache=True)
+def substrings(hosts, start, length):
+    """``hosts`` kept on the loci ``[start[i], start[i] + length[i])`` of each row, zero
+    elsewhere: :func:`evoplan.operators.viral.transduction`'s bits."""
+    V, L = hosts.shape
+    out = np.zeros((V, L), dtype=np.bool_)
+    for i in range(V):
+        for j in range(start[i], start[i] + length[i]):
+            out[i, j] = hosts[i, j]
+    return out
+
+
+@numba.njit(cache=True)
+def partial_transduction(start, length, bits, hosts, cap, growth, right):
+    """:func:`evoplan.operators.viral.partial_transduction` after its draw ``right: (V,)``
+    (the side each window grows to): the same windows and bits, one row at a time."""
+    V, L = hosts.shape
+    new_start = np.empty(V, dtype=np.int64)
+    new_len = np.empty(V, dtype=np.int64)
+    out = np.zeros((V, L), dtype=np.bool_)
+    for i in range(V):
+        n = max(min(length[i] + growth, cap), length[i])
+        s = start[i] + (length[i] + growth - n) if right[i] else start[i] - growth
+        s = min(max(s, 0), L - n)
+        new_start[i], new_len[i] = s, n
+        old_lo, old_hi = start[i], start[i] + length[i]
+        for j in range(s, s + n):
+            out[i, j] = bits[i, j] if old_lo <= j < old_hi else hosts[i, j]
+    return new_start, new_len, out

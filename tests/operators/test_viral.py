@@ -89,3 +89,25 @@ def test_batched_infection_equals_pairwise_reverse_transcription(V, N, L, seed):
     virus, host = np.nonzero(rng.random((V, N)) < 0.6)
     expected = viral.reverse_transcription(G[host], start[virus], length[virus], bits[virus])
     assert np.array_equal(viral.infect(G, host, virus, start, length, bits), expected)
+
+
+@pytest.mark.parametrize("L, max_length, growth", [(46, 40, 1), (46, 10, 3), (8, 8, 2), (1, 1, 1), (30, 50, 5)])
+def test_compiled_transductions_equal_the_numpy_forms(L, max_length, growth):
+    """Transduction and partial transduction in both forms of :mod:`evoplan.compiled`: the same
+    windows, bits and generator numbers, windows at the host's ends and at the cap included."""
+    from evoplan import compiled
+
+    for seed in range(20):
+        hosts = np.random.default_rng(seed).random((9, L)) < 0.5
+        outs = []
+        for mode in ("never", "always"):
+            previous = compiled.set_mode(mode)
+            try:
+                rng = np.random.default_rng(seed)
+                s, n, b = viral.transduction(hosts, max_length, rng)
+                grown = viral.partial_transduction(s, n, b, hosts[::-1].copy(), max_length, rng, growth)
+                outs.append((s, n, b, *grown, rng.random()))
+            finally:
+                compiled.set_mode(previous)
+        for x, y in zip(*outs):
+            assert np.array_equal(x, y) and np.asarray(x).dtype == np.asarray(y).dtype
