@@ -104,3 +104,20 @@ def partial_transduction(start, length, bits, hosts, cap, growth, right):
         for j in range(s, s + n):
             out[i, j] = bits[i, j] if old_lo <= j < old_hi else hosts[i, j]
     return new_start, new_len, out
+
+
+@numba.njit(cache=True)
+def pairs_below(u, rate):
+    """``np.nonzero(u < rate[:, None])`` for ``u: (V, N)``: the ``(virus, host)`` pairs whose
+    draw falls under the virus' infection rate, sorted by virus, then host, in one pass."""
+    V, N = u.shape
+    virus = np.empty(V * N, dtype=np.int64)
+    host = np.empty(V * N, dtype=np.int64)
+    p = 0
+    for i in range(V):
+        r = rate[i]
+        for j in range(N):
+            if u[i, j] < r:
+                virus[p], host[p] = i, j
+                p += 1
+    return virus[:p].copy(), host[:p].copy()

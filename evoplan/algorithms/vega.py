@@ -55,6 +55,7 @@ from typing import Literal
 import numpy as np
 from pydantic import Field, model_validator
 
+from ..compiled import use_compiled
 from ..operators import viral
 from ..operators.viral_outcome import infect_pairs, infection_outcome
 from ..operators.ranking import stable_order
@@ -166,8 +167,12 @@ class VEGA(GA):
     # -- rule 2: infection -----------------------------------------------------------------------
     def infections(self) -> tuple[np.ndarray, np.ndarray]:
         """``(virus, host)`` index pairs: virus ``i`` infects each host with probability ``rate_i``."""
-        hit = self.rng.random((self.vc.count, self.f.size)) < self.rate[:, None]
-        return np.nonzero(hit)
+        u = self.rng.random((self.vc.count, self.f.size))
+        if use_compiled():
+            from ..operators.viral_kernels import pairs_below  # numba: imported only when it pays
+
+            return pairs_below(u, self.rate)
+        return np.nonzero(u < self.rate[:, None])
 
     # -- rules 4-6: virus bookkeeping ------------------------------------------------------------
     def update_viruses(self, fitvirus: np.ndarray, infected: np.ndarray, best_pair: np.ndarray,

@@ -111,3 +111,15 @@ def test_compiled_transductions_equal_the_numpy_forms(L, max_length, growth):
                 compiled.set_mode(previous)
         for x, y in zip(*outs):
             assert np.array_equal(x, y) and np.asarray(x).dtype == np.asarray(y).dtype
+
+
+@pytest.mark.parametrize("V, N", [(7, 200), (1, 1), (3, 2000), (10, 5)])
+def test_compiled_infection_pairs_equal_nonzero(V, N):
+    from evoplan.operators.viral_kernels import pairs_below
+
+    rng = np.random.default_rng(V * N)
+    for rate in (rng.random(V), np.zeros(V), np.ones(V)):
+        u = rng.random((V, N))
+        virus, host = pairs_below(u, rate)
+        expected = np.nonzero(u < rate[:, None])
+        assert np.array_equal(virus, expected[0]) and np.array_equal(host, expected[1])
