@@ -192,8 +192,13 @@ def new_index(width: int, expected: int = 0, rows: int = 0):
 class EvaluationCache:
     """A first-in-first-out table of at most ``size`` (packed genotype, objective value) pairs."""
 
-    def __init__(self, size: int = 100_000, budget: Budget = "distinct", stall_generations: int = 100) -> None:
+    def __init__(self, size: int = 100_000, budget: Budget = "distinct", stall_generations: int = 100,
+                 expected: int | None = None) -> None:
         self.size = int(size)
+        # the entries a run will likely store (its budget): the key index starts at that size,
+        # not at ``size``, so a short run neither clears nor pages in a table it cannot fill;
+        # a run that stores more grows it (it changes time, never numbers)
+        self.expected = self.size if expected is None else min(self.size, max(int(expected), 0))
         self.budget = budget
         self.stall_generations = int(stall_generations)
         self.width = 0  # bytes of a packed genotype (set by the first batch)
@@ -206,8 +211,8 @@ class EvaluationCache:
         self._exponents = np.zeros(0, dtype=np.int64)  # locus j of a coded genotype weighs 2 ** j
 
     @classmethod
-    def from_config(cls, config: CacheConfig) -> "EvaluationCache":
-        return cls(config.size, config.budget, config.stall_generations)
+    def from_config(cls, config: CacheConfig, expected: int | None = None) -> "EvaluationCache":
+        return cls(config.size, config.budget, config.stall_generations, expected)
 
     @property
     def charge_hits(self) -> bool:
@@ -233,7 +238,7 @@ class EvaluationCache:
         if not self.width:
             self.width = -(-G.shape[1] // 8) if coded else pack(G[:1]).shape[1]
             self.codes = np.zeros(0, dtype=key_dtype(self.width))
-            self._index = new_index(self.width, self.size, len(G))
+            self._index = new_index(self.width, self.expected, len(G))
         elif self.width <= 8 and isinstance(self._index, DictIndex) and use_compiled(len(G)):
             self._index = _compiled_from(self._index, self.size)
         if coded:  # codes computed and looked up in one compiled pass

@@ -65,8 +65,19 @@ class Prepared:
         rng = np.random.default_rng(self.config.seed)
         extra = {"n_obj": self.evaluator.problem.n_obj} if getattr(algo_cls, "multi_objective", False) else {}
         algorithm = algo_cls(self.config.algorithm, self.search.n_bits, rng, **extra)
-        cache = EvaluationCache.from_config(self.config.cache)
+        cache = EvaluationCache.from_config(self.config.cache, expected_evaluations(self.config))
         return RunState(algorithm=algorithm, rng=rng, fingerprint=self.fingerprint, cache=cache)
+
+
+def expected_evaluations(config: RunConfig) -> int | None:
+    """The evaluations a run will likely make: its evaluation budget, else its generations
+    times its population (a hint for sizing the cache's index); None when only time bounds it."""
+    t = config.termination
+    population = getattr(config.algorithm, "population", None)
+    guesses = [t.evaluations] if t.evaluations is not None else []
+    if t.generations is not None and population is not None:
+        guesses.append(t.generations * population)
+    return min(guesses) if guesses else None
 
 
 def prepare(config: RunConfig, source: str = "<config>", problem=None) -> Prepared:
