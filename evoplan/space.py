@@ -27,6 +27,7 @@ from typing import Any, Sequence
 import numpy as np
 
 MAX_BITS = 52
+COLUMNWISE_VARIABLES = 8  # up to this many reals, decoding scales column by column
 
 
 @dataclass(frozen=True)
@@ -163,7 +164,13 @@ class Space:
         """Phenotypes ``X: (n, d)``: Eq. 8 for reals, equal-width bins for integers and choices."""
         K = self.integers(G)
         if self._all_real:
-            return self._low + K * self._real_scale
+            if K.shape[1] > COLUMNWISE_VARIABLES:
+                return self._low + K * self._real_scale
+            for i in range(K.shape[1]):  # the same numbers: numpy's broadcast over a row of a
+                column = K[:, i]  # few values runs its inner loop once a row, a column is one loop
+                column *= self._real_scale[i]
+                column += self._low[i]
+            return K
         binned = self._low + np.minimum(np.floor(K * self._count / self._levels), self._count - 1)
         return np.where(self._is_real, self._low + K * self._real_scale, binned)
 
