@@ -154,10 +154,12 @@ class Evaluator:
             return self.problem.evaluate(X, return_as_dictionary=True)
         out = {"F": None}
         self.problem._evaluate(X, out)
-        F = out["F"]
-        if not (isinstance(F, np.ndarray) and F.size == len(X)):  # pymoo's conversions and shape error
-            out = self.problem._format_dict(out, len(X), ["F"])
-        return {k: np.array(v, dtype=float) if k in ("F", "cost") else v for k, v in out.items()}
+        if not (isinstance(out["F"], np.ndarray) and out["F"].size == len(X)):  # pymoo's conversions
+            out = self.problem._format_dict(out, len(X), ["F"])  # and shape error
+        out["F"] = np.array(out["F"], dtype=float)  # (a copy, as pymoo's: the problem may reuse its array)
+        if out.get("cost") is not None:
+            out["cost"] = np.array(out["cost"], dtype=float)
+        return out
 
     def _values(self, X: np.ndarray) -> tuple[np.ndarray, np.ndarray | None, np.ndarray | None]:
         """The objective values of ``X`` (penalized), and for a constrained problem the values

@@ -245,6 +245,8 @@ class KeyIndex:
 
     def _room(self, n: int) -> None:
         """Grow (by powers of two, rehashed) until ``n`` entries fill at most half the table."""
+        if 2 * n <= 1 << self.bits:
+            return
         bits = max(self.bits, _bits_for(n))
         if bits == self.bits:
             return

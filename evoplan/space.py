@@ -27,7 +27,8 @@ from typing import Any, Sequence
 import numpy as np
 
 MAX_BITS = 52
-COLUMNWISE_VARIABLES = 8  # up to this many reals, decoding scales column by column
+# up to this many reals and from this many rows, decoding scales column by column
+COLUMNWISE_VARIABLES, COLUMNWISE_ROWS = 8, 512
 
 
 @dataclass(frozen=True)
@@ -164,7 +165,7 @@ class Space:
         """Phenotypes ``X: (n, d)``: Eq. 8 for reals, equal-width bins for integers and choices."""
         K = self.integers(G)
         if self._all_real:
-            if K.shape[1] > COLUMNWISE_VARIABLES:
+            if K.shape[1] > COLUMNWISE_VARIABLES or K.shape[0] < COLUMNWISE_ROWS:
                 return self._low + K * self._real_scale
             for i in range(K.shape[1]):  # the same numbers: numpy's broadcast over a row of a
                 column = K[:, i]  # few values runs its inner loop once a row, a column is one loop
