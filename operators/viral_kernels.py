@@ -121,3 +121,42 @@ def pairs_below(u, rate):
                 virus[p], host[p] = i, j
                 p += 1
     return virus[:p].copy(), host[:p].copy()
+
+
+@numba.njit(cache=True)
+def life_and_rate(life, fitvirus, reduction, rate, step, low, high, infected, kubota_rule):
+    """Rules 4-6's bookkeeping in one pass: Kubota's life force
+    (:func:`evoplan.operators.viral.update_life`), the adapted infection rate
+    (:func:`~evoplan.operators.viral.adapt_infection_rate`) and the viruses to renew and to
+    grow, as :meth:`evoplan.algorithms.vega.VEGA.update_viruses` decides them; the same numbers.
+
+    Returns ``(life, rate, renew, grow)``, the last two as ascending indices."""
+    V = life.size
+    new_life = np.empty(V)
+    new_rate = np.empty(V)
+    renew = np.empty(V, dtype=np.int64)
+    grow = np.empty(V, dtype=np.int64)
+    n_renew = n_grow = 0
+    up, down = 1.0 + step, 1.0 - step
+    for i in range(V):
+        x = reduction * life[i] + fitvirus[i]
+        new_life[i] = x
+        r = rate[i] * (up if fitvirus[i] > 0 else (down if fitvirus[i] < 0 else 1.0))
+        if r < low:
+            r = low
+        if r > high:
+            r = high
+        new_rate[i] = r
+        if kubota_rule:
+            renewed = x < 0
+            grows = not renewed and infected[i]
+        else:
+            renewed = x < 0 or x < life[i]
+            grows = x > life[i] and infected[i]
+        if renewed:
+            renew[n_renew] = i
+            n_renew += 1
+        if grows:
+            grow[n_grow] = i
+            n_grow += 1
+    return new_life, new_rate, renew[:n_renew].copy(), grow[:n_grow].copy()

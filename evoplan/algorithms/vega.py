@@ -182,27 +182,34 @@ class VEGA(GA):
         ``fitvirus: (V,)`` Eq. 12; ``infected: (V,)`` whether each virus infected a host;
         ``best_pair: (V,)`` the row of ``trials`` (the infected hosts) each virus improved most.
         """
-        old_life = self.life
-        self.life = viral.update_life(old_life, fitvirus, self.vc.infectivity_force)
-        self.rate = viral.adapt_infection_rate(
-            self.rate, fitvirus, self.vc.rate_step, self.vc.min_infection_rate, self.vc.max_infection_rate
-        )
-        if self.vc.life_rule == "kubota":
-            renew = self.life < 0
-            grow = ~renew & infected
+        vc = self.vc
+        if use_compiled():  # the same numbers in one pass (operators/viral_kernels.py)
+            from ..operators.viral_kernels import life_and_rate
+
+            self.life, self.rate, renew, idx = life_and_rate(
+                self.life, fitvirus, float(vc.infectivity_force), self.rate, float(vc.rate_step),
+                float(vc.min_infection_rate), float(vc.max_infection_rate), infected, vc.life_rule == "kubota")
         else:
-            renew = (self.life < 0) | (self.life < old_life)
-            grow = (self.life > old_life) & infected  # life rose: a gain this generation
-        if grow.any():
+            old_life = self.life
+            self.life = viral.update_life(old_life, fitvirus, vc.infectivity_force)
+            self.rate = viral.adapt_infection_rate(
+                self.rate, fitvirus, vc.rate_step, vc.min_infection_rate, vc.max_infection_rate)
+            if vc.life_rule == "kubota":
+                renew = self.life < 0
+                grow = ~renew & infected
+            else:
+                renew = (self.life < 0) | (self.life < old_life)
+                grow = (self.life > old_life) & infected  # life rose: a gain this generation
+            renew, idx = np.flatnonzero(renew), np.flatnonzero(grow)
+        if idx.size:
             # the infected host (its infected version) each growing virus improved most
-            idx = np.flatnonzero(grow)
             s, n, b = viral.partial_transduction(
                 self.start[idx], self.length[idx], self.bits[idx], trials[best_pair[idx]],
                 self.vc.max_length, self.rng, self.vc.growth,
             )
             self.start[idx], self.length[idx], self.bits[idx] = s, n, b
             self.longest = max(self.longest, int(n.max()))
-        self.create_viruses(np.flatnonzero(renew), renewal=True)
+        self.create_viruses(renew, renewal=True)
 
     # -- ask / tell ------------------------------------------------------------------------------
     def begin_infection(self, virus: np.ndarray, host: np.ndarray) -> bool:

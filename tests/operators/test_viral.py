@@ -123,3 +123,26 @@ def test_compiled_infection_pairs_equal_nonzero(V, N):
         virus, host = pairs_below(u, rate)
         expected = np.nonzero(u < rate[:, None])
         assert np.array_equal(virus, expected[0]) and np.array_equal(host, expected[1])
+
+
+@pytest.mark.parametrize("kubota_rule", [False, True])
+def test_compiled_life_and_rate_equal_the_numpy_rules(kubota_rule):
+    from evoplan.operators.viral_kernels import life_and_rate
+
+    rng = np.random.default_rng(int(kubota_rule))
+    for _ in range(50):
+        V = int(rng.integers(1, 12))
+        life = rng.normal(size=V) * rng.choice([0.0, 1.0], V)
+        fitvirus = rng.normal(size=V) * rng.choice([0.0, 1.0], V)  # gains, losses and none
+        rate, infected = rng.uniform(0.05, 1.0, V), rng.random(V) < 0.5
+        new_life = viral.update_life(life, fitvirus, 0.01)
+        new_rate = viral.adapt_infection_rate(rate, fitvirus, 0.1, 0.1, 1.0)
+        if kubota_rule:
+            renew = new_life < 0
+            grow = ~renew & infected
+        else:
+            renew = (new_life < 0) | (new_life < life)
+            grow = (new_life > life) & infected
+        got = life_and_rate(life, fitvirus, 0.01, rate, 0.1, 0.1, 1.0, infected, kubota_rule)
+        for x, y in zip(got, (new_life, new_rate, np.flatnonzero(renew), np.flatnonzero(grow))):
+            assert np.array_equal(x, y)
