@@ -1,18 +1,27 @@
 """When the core's compiled (numba) kernels pay for themselves in a process.
 
 The core's hot loops have a compiled form and a numpy form that give the same numbers
-bit for bit: the evaluation cache's key index (``key_index.py`` against a ``dict``; a batch's
-look-up with its known values and rows to evaluate, and its store, one pass each), the GA's
-breeding of children from their parents (``operators/breeding_kernels.py`` against the
-crossover and mutation operators' masks) and VEGA's infection round
-(``operators/viral_kernels.py`` against ``operators/viral_outcome.py``'s matrix form). The
-compiled forms are faster per row, but a process pays once to load numba and dispatch them.
-Measured on the 2-core host in fresh processes (GA on Kubota's function, pop 200, a
-100 000-entry cache, whole-process CPU seconds, medians of 3, session of 2026-12-07): numpy
-0.96 s at 2000 generations and 2.83 s at 12 000 (187 us a generation), compiled 1.34 s and
-2.45 s (111 us a generation): the load costs 0.53 s and pays back after about 7000
-generations, 2.8 M rows as counted below (the cache's 200 and the 199 children a
-generation).
+bit for bit:
+
+- the evaluation cache's key index (``key_index.py`` against a ``dict``; a batch's look-up
+  with its known values and rows to evaluate, and its store, one pass each);
+- the population's stable order (``operators/ranking_kernels.py``, a radix sort, from 512
+  values) and the roulette wheel (``operators/selection_kernels.py``, a guide table);
+- the GA's breeding of children from their parents (``operators/breeding_kernels.py``
+  against the crossover and mutation operators' masks), and for the paper's default
+  operators the whole step from ranks to children in one pass;
+- VEGA's infection pairs, infection round, transductions and virus bookkeeping
+  (``operators/viral_kernels.py`` against ``operators/viral.py`` and
+  ``operators/viral_outcome.py``).
+
+The compiled forms are faster per row, but a process pays once to load numba and dispatch
+them. Measured on the 2-core host in fresh processes before the ranking, wheel, one-pass
+breeding and virus forms were added (GA on Kubota's function, pop 200, a 100 000-entry
+cache, whole-process CPU seconds, medians of 3, session of 2026-12-07): numpy 0.96 s at 2000
+generations and 2.83 s at 12 000 (187 us a generation), compiled 1.34 s and 2.45 s (111 us a
+generation): the load costs 0.53 s and pays back after about 7000 generations, 2.8 M rows as
+counted below (the cache's 200 and the 199 children a generation). The later forms only
+widen the per-generation gap, so that break-even is an upper bound.
 
 :func:`use_compiled` is the rule, one for the process (the cost is the process's):
 

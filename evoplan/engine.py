@@ -233,7 +233,8 @@ def settle(state: RunState, pending: Pending, result: Evaluation | None) -> np.n
     cache = state.cache
     if todo.size:
         f[todo] = result.f
-        _count_failures(state, result)
+        if result.failed.any():
+            _count_failures(state, result)
         if cache is not None:
             cache.store(keys if todo.size == n else keys[todo], result.f, fresh=True)
     if todo.size < n:  # a row repeated inside the batch takes its first occurrence's value
@@ -286,6 +287,7 @@ def evaluate(state: RunState, G: np.ndarray, space: Space, evaluator: Evaluator)
 
 
 def _count_failures(state: RunState, result: Evaluation) -> None:
+    """Count the batch's failures (some) and keep the first few distinct messages."""
     if result.failed.any():
         state.failures += int(result.failed.sum())
         for message in dict.fromkeys(result.errors):  # distinct messages, the first few

@@ -7,6 +7,7 @@ One generation: Eq. 10 exponential ranked fitness -> selection into a mating poo
 
 from __future__ import annotations
 
+import math
 from typing import Literal
 
 import numpy as np
@@ -124,8 +125,10 @@ class GA(Algorithm):
         if self.generation < 0:
             self._batch = self.rng.random((self.config.population, self.n_bits)) < 0.5
         else:
-            f = self.f  # one stable sort gives the elite and the ranks (every value finite)
-            order = stable_order(f, finite=True) if np.isfinite(f).all() else None
+            f = self.f  # one stable sort gives the elite and the ranks (every value finite: a
+            # finite sum says so in one pass; a sum that overflows takes the general path, which
+            # gives the same numbers)
+            order = stable_order(f, finite=True) if math.isfinite(np.add.reduce(f)) else None
             k = self.config.elitism
             self._pending_elite = order[:k] if order is not None else elitism.elite_indices(f, k)
             self._batch = self.offspring(order)
