@@ -36,14 +36,15 @@ def breed(G: np.ndarray, a: np.ndarray, b: np.ndarray, lo: np.ndarray, hi: np.nd
 
 def breed_ranked_single_point(G: np.ndarray, f: np.ndarray, order: np.ndarray, pressure: float,
                               crossover_rate: float, mutation_rate: float, n_children: int,
-                              rng: np.random.Generator) -> np.ndarray | None:
+                              rng: np.random.Generator, elite: np.ndarray | None = None) -> np.ndarray | None:
     """``n_children`` children of ``(G, f)`` by the paper's default operators in one compiled
     pass: Eq. 10 on ranks (``order``: the stable sort of ``f``, every value finite), roulette,
     single-point crossover, single-point mutation
     (:func:`.breeding_kernels.breed_ranked_single_point`).
 
     It draws what ``roulette``, ``single_point_segments`` and ``single_point_loci`` draw, in
-    their order, and gives their children bit for bit. ``None``, having drawn nothing, where
+    their order, and gives their children bit for bit, after the rows ``G[elite]`` (none by
+    default: the next population in one array, no copy to join them). ``None``, having drawn nothing, where
     that pass does not serve (the numpy form chosen, fewer than two loci, a non-finite or
     huge sum of objective values): the caller then runs the operators one by one."""
     N, L = G.shape
@@ -59,4 +60,5 @@ def breed_ranked_single_point(G: np.ndarray, f: np.ndarray, order: np.ndarray, p
     cut, u_cross = rng.integers(1, L, m), rng.random(m)
     u_mutate, locus = rng.random(n_children), rng.integers(0, L, n_children)
     return kernel(G, order, rank_factors(N, float(pressure)), fitsum if fitsum > 0 else 1.0, u_select,
-                  cut, u_cross, float(crossover_rate), u_mutate, locus, float(mutation_rate), n_children)
+                  cut, u_cross, float(crossover_rate), u_mutate, locus, float(mutation_rate), n_children,
+                  np.empty(0, dtype=np.int64) if elite is None else np.asarray(elite, dtype=np.int64))

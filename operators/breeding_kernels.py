@@ -25,21 +25,27 @@ def breed_pairs(G, a, b, lo, hi, loci, n_children):
     """Child ``i`` is ``G[a[i]]`` with ``G[b[i]]``'s loci ``[lo[i], hi[i])``, child ``m + i``
     the reverse (``m = a.size``); the first ``n_children`` are kept and child ``k`` then
     flips locus ``loci[k]`` (none where -1)."""
-    m = a.size
     out = np.empty((n_children, G.shape[1]), dtype=np.bool_)
-    for i in range(m):
-        _child(out, i, G, a[i], b[i], lo[i], hi[i])
-        if m + i < n_children:
-            _child(out, m + i, G, b[i], a[i], lo[i], hi[i])
-    for k in range(n_children):
-        if loci[k] >= 0:
-            out[k, loci[k]] = not out[k, loci[k]]
+    _breed_into(out, 0, G, a, b, lo, hi, loci, n_children)
     return out
 
 
 @numba.njit(cache=True)
+def _breed_into(out, offset, G, a, b, lo, hi, loci, n_children):
+    """:func:`breed_pairs`'s children written to rows ``offset ..`` of ``out``."""
+    m = a.size
+    for i in range(m):
+        _child(out, offset + i, G, a[i], b[i], lo[i], hi[i])
+        if m + i < n_children:
+            _child(out, offset + m + i, G, b[i], a[i], lo[i], hi[i])
+    for k in range(n_children):
+        if loci[k] >= 0:
+            out[offset + k, loci[k]] = not out[offset + k, loci[k]]
+
+
+@numba.njit(cache=True)
 def breed_ranked_single_point(G, order, factors, scale, u_select, cut, u_cross, cross_rate,
-                              u_mutate, locus, mutation_rate, n_children):
+                              u_mutate, locus, mutation_rate, n_children, elite):
     """One generation's children by the paper's default operators, from their drawn numbers:
     Eq. 10 on ranks (``fitness[order[r]] = scale * factors[r]``), a roulette wheel over the
     population's cumulative fitness (:func:`.selection_kernels.wheel_indices` on ``u_select``:
@@ -49,7 +55,9 @@ def breed_ranked_single_point(G, order, factors, scale, u_select, cut, u_cross, 
 
     The same children, bit for bit, as ``exponential_fitness`` -> ``roulette`` ->
     ``single_point_segments`` -> ``single_point_loci`` -> :func:`breed_pairs` on the same
-    draws: each value is formed by the same floating-point operations in the same order."""
+    draws: each value is formed by the same floating-point operations in the same order.
+
+    Returns the next population: the rows ``G[elite]`` first, then the children."""
     N, L = G.shape
     cum = np.empty(N)
     for r in range(N):
@@ -65,4 +73,8 @@ def breed_ranked_single_point(G, order, factors, scale, u_select, cut, u_cross, 
     flips = np.empty(n_children, dtype=np.int64)
     for k in range(n_children):
         flips[k] = locus[k] if u_mutate[k] < mutation_rate else -1
-    return breed_pairs(G, parents[:m], parents[m:], lo, hi, flips, n_children)
+    out = np.empty((elite.size + n_children, L), dtype=np.bool_)
+    for r in range(elite.size):
+        out[r, :] = G[elite[r], :]
+    _breed_into(out, elite.size, G, parents[:m], parents[m:], lo, hi, flips, n_children)
+    return out

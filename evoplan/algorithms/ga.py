@@ -83,6 +83,7 @@ class GA(Algorithm):
         super().__init__(n_bits, rng)
         self.config = config
         self._pending_elite = np.empty(0, dtype=np.intp)
+        self._next: np.ndarray | None = None  # the next population when the breeding pass made it whole
 
     @property
     def _paper_operators(self) -> bool:
@@ -109,10 +110,12 @@ class GA(Algorithm):
         cfg = self.config
         n_children = cfg.population - cfg.elitism
         if order is not None and self._paper_operators:  # the defaults: one compiled pass
-            children = breed_ranked_single_point(self.G, self.f, order, cfg.fitness.pressure,
-                                                 cfg.crossover.rate, cfg.mutation.rate, n_children, self.rng)
-            if children is not None:
-                return children
+            elite = self._pending_elite
+            nxt = breed_ranked_single_point(self.G, self.f, order, cfg.fitness.pressure, cfg.crossover.rate,
+                                            cfg.mutation.rate, n_children, self.rng, elite)
+            if nxt is not None:  # the next population, the elite's rows first
+                self._next = nxt
+                return nxt[elite.size:]
         n_pairs = (n_children + 1) // 2
         parents = self.select(self.scaled_fitness(self.f, order), 2 * n_pairs)
         L = self.G.shape[1]
@@ -140,9 +143,9 @@ class GA(Algorithm):
             self.G, self.f = self._batch, f
         else:
             keep = self._pending_elite
-            self.G = np.concatenate([self.G[keep], self._batch])
+            self.G = np.concatenate([self.G[keep], self._batch]) if self._next is None else self._next
             self.f = np.concatenate([self.f[keep], f])
-        self._batch = None
+        self._batch = self._next = None
         return self.hosts_evaluated()
 
     def hosts_evaluated(self) -> bool:

@@ -134,6 +134,13 @@ def test_one_pass_breeding_equals_the_operators_one_by_one(n, L, n_children):
             compiled.set_mode(previous)
         assert got.dtype == bool and np.array_equal(got, expected)
         assert r1.bit_generator.state == r2.bit_generator.state
+        r3, elite = np.random.default_rng(seed), order[:3]
+        previous = compiled.set_mode("always")
+        try:  # the next population in one array: the elite's rows, then the same children
+            whole = breeding.breed_ranked_single_point(G, f, order, 2.0, 0.9, 0.5, n_children, r3, elite)
+        finally:
+            compiled.set_mode(previous)
+        assert np.array_equal(whole, np.concatenate([G[elite], expected]))
 
 
 def test_one_pass_breeding_steps_aside_without_drawing():
