@@ -10,6 +10,7 @@
   (K, tool) pair builds its layout (zoning, merging, directions: memoized), every later
   one reuses it. Printed: the layout cost, and milliseconds per memoized evaluation
   (target: at most 50 ms).
+- The numpy-floor GA of ``floor.py`` before and after, as this host's speed at the time.
 - --profile: pyinstrument's top lines for a memoized zoned population.
 - --compare: the compiled passes (``geometry/rows.interp_rows``, the torus family's
   ``cc_to_tip``) against their numpy references (``interp_rows_numpy``,
@@ -165,8 +166,23 @@ def main() -> None:
         compare(args)
         return
     rng = np.random.default_rng(args.seed)
+    before = floor_seconds()
     unzoned(args, rng)
     zoned(args, rng)
+    print(f"numpy-floor GA (floor.py, pop 200 x 200), CPU s, before / after: {before:.4f} / {floor_seconds():.4f}")
+
+
+def floor_seconds(rounds: int = 5) -> float:
+    """The numpy floor's CPU seconds in this process, median of ``rounds`` (how fast this
+    host is now: machines of this kind differ by up to 1.6x)."""
+    from floor import floor_ga  # noqa: PLC0415 - the sibling benchmark (runs/bench/floor.py)
+
+    times = []
+    for seed in range(rounds):
+        t0 = time.process_time()
+        floor_ga(200, 200, seed)
+        times.append(time.process_time() - t0)
+    return float(np.median(times))
 
 
 if __name__ == "__main__":
