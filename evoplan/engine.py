@@ -287,7 +287,7 @@ def evaluate(state: RunState, G: np.ndarray, space: Space, evaluator: Evaluator)
 
 
 def _count_failures(state: RunState, result: Evaluation) -> None:
-    """Count the batch's failures (some) and keep the first few distinct messages."""
+    """Count a batch's failures and keep the first few distinct messages."""
     if result.failed.any():
         state.failures += int(result.failed.sum())
         for message in dict.fromkeys(result.errors):  # distinct messages, the first few

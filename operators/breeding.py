@@ -44,9 +44,10 @@ def breed_ranked_single_point(G: np.ndarray, f: np.ndarray, order: np.ndarray, p
 
     It draws what ``roulette``, ``single_point_segments`` and ``single_point_loci`` draw, in
     their order, and gives their children bit for bit, after the rows ``G[elite]`` (none by
-    default: the next population in one array, no copy to join them). ``None``, having drawn nothing, where
-    that pass does not serve (the numpy form chosen, fewer than two loci, a non-finite or
-    huge sum of objective values): the caller then runs the operators one by one."""
+    default): the next population in one array, with no copy to join them. ``None``, having
+    drawn nothing, where that pass does not serve (the numpy form chosen, fewer than two loci,
+    a non-finite or huge sum of objective values): the caller then runs the operators one by
+    one."""
     N, L = G.shape
     if L < 2 or N < 2 or G.dtype != bool or not use_compiled(n_children):
         return None
