@@ -15,13 +15,13 @@ bit for bit:
   ``operators/viral_outcome.py``).
 
 The compiled forms are faster per row, but a process pays once to load numba and dispatch
-them. Measured on the 2-core host in fresh processes before the ranking, wheel, one-pass
-breeding and virus forms were added (GA on Kubota's function, pop 200, a 100 000-entry
-cache, whole-process CPU seconds, medians of 3, session of 2026-12-07): numpy 0.96 s at 2000
-generations and 2.83 s at 12 000 (187 us a generation), compiled 1.34 s and 2.45 s (111 us a
-generation): the load costs 0.53 s and pays back after about 7000 generations, 2.8 M rows as
-counted below (the cache's 200 and the 199 children a generation). The later forms only
-widen the per-generation gap, so that break-even is an upper bound.
+them. Measured on the 2-core host in fresh processes (GA on Kubota's function, pop 200, a
+100 000-entry cache, whole-process CPU seconds, medians of 3, session of 2026-12-07 with
+every form above): numpy 0.94 s at 2000 generations and 2.94 s at 12 000 (200 us a
+generation), compiled 1.16 s and 2.15 s (99 us a generation): the load costs 0.42 s and
+pays back after about 4200 generations, 1.7 M rows as counted below (the cache's 200 and
+the 199 children a generation). (Before the ranking, wheel, one-pass breeding and virus
+forms: 187 against 111 us a generation, a 0.53 s load, 2.8 M rows.)
 
 :func:`use_compiled` is the rule, one for the process (the cost is the process's):
 
@@ -33,16 +33,17 @@ widen the per-generation gap, so that break-even is an upper bound.
   hindsight would have cost (the ski-rental rule).
 
 The choice changes time, never numbers. :func:`set_mode` fixes it (``always`` / ``never``) for
-benchmarks and tests.
+benchmarks and tests; :func:`forced` for the length of a ``with`` block.
 """
 
 from __future__ import annotations
 
 import sys
+from contextlib import contextmanager
 
-__all__ = ["SWITCH_ROWS", "MODES", "use_compiled", "set_mode"]
+__all__ = ["SWITCH_ROWS", "MODES", "use_compiled", "set_mode", "forced"]
 
-SWITCH_ROWS = 2_800_000
+SWITCH_ROWS = 1_700_000
 MODES = ("auto", "always", "never")
 
 _mode = "auto"
@@ -66,3 +67,13 @@ def set_mode(mode: str) -> str:
         raise ValueError(f"compiled mode: expected one of {', '.join(MODES)}, got {mode!r}")
     previous, _mode = _mode, mode
     return previous
+
+
+@contextmanager
+def forced(mode: str):
+    """The rule fixed to ``mode`` inside a ``with`` block, the previous one restored after."""
+    previous = set_mode(mode)
+    try:
+        yield
+    finally:
+        set_mode(previous)

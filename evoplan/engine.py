@@ -287,9 +287,8 @@ def evaluate(state: RunState, G: np.ndarray, space: Space, evaluator: Evaluator)
 
 
 def _count_failures(state: RunState, result: Evaluation) -> None:
-    """Count a batch's failures and keep the first few distinct messages."""
-    if result.failed.any():
-        state.failures += int(result.failed.sum())
-        for message in dict.fromkeys(result.errors):  # distinct messages, the first few
-            if message not in state.errors and len(state.errors) < MAX_ERRORS_KEPT:
-                state.errors.append(message)
+    """Count the failures of a batch that has some and keep the first few distinct messages."""
+    state.failures += int(result.failed.sum())
+    for message in dict.fromkeys(result.errors):  # distinct messages, the first few
+        if message not in state.errors and len(state.errors) < MAX_ERRORS_KEPT:
+            state.errors.append(message)

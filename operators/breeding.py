@@ -49,7 +49,7 @@ def breed_ranked_single_point(G: np.ndarray, f: np.ndarray, order: np.ndarray, p
     a non-finite or huge sum of objective values): the caller then runs the operators one by
     one."""
     N, L = G.shape
-    if L < 2 or N < 2 or G.dtype != bool or not use_compiled(n_children):
+    if L < 2 or N < 2 or G.dtype != bool or not use_compiled():  # (rows counted by breed's path)
         return None
     fitsum = float(np.abs(f).sum())
     if not fitsum < FITSUM_LIMIT:

@@ -45,3 +45,28 @@ def test_a_small_run_never_loads_numba(algorithm):
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert out.returncode == 0, out.stderr
     assert out.stdout.split() == ["True", "False"], (out.stdout, out.stderr[-2000:])
+
+
+def test_forced_holds_a_mode_for_a_block_and_restores_the_previous_one(auto):
+    with compiled.forced("never"):
+        assert not compiled.use_compiled(10 * compiled.SWITCH_ROWS)
+        with pytest.raises(RuntimeError):
+            with compiled.forced("always"):
+                assert compiled.use_compiled()
+                raise RuntimeError("inside")
+        assert not compiled.use_compiled()  # restored after the inner block, even on an error
+    assert compiled.set_mode("auto") == "auto"
+
+
+def test_the_one_pass_breeding_leaves_the_count_to_the_path_it_falls_back_to(auto):
+    """Before the switch the GA breeds by the operators one by one, and ``breed`` counts the
+    children: the one-pass form, stepping aside, must not count them a second time."""
+    import numpy as np
+
+    from evoplan.operators import breeding
+
+    G = np.random.default_rng(0).random((20, 8)) < 0.5
+    f = np.arange(20.0)
+    assert breeding.breed_ranked_single_point(G, f, np.argsort(f, kind="stable"), 2.0, 0.9, 0.5, 19,
+                                              np.random.default_rng(1)) is None
+    assert compiled._rows == 0

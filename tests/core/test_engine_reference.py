@@ -95,11 +95,8 @@ def test_same_run_bit_for_bit_as_recorded(case, mode):
     """Both forms of the core's loops (numpy, compiled: :mod:`evoplan.compiled`) give the run."""
     name, *args = case
     expected = json.loads(DATA.read_text())[name]
-    previous = compiled.set_mode(mode)
-    try:
+    with compiled.forced(mode):
         assert summary(execute(*args)) == expected
-    finally:
-        compiled.set_mode(previous)
 
 
 def test_the_reference_covers_hits_fifo_drops_and_skipped_infections():

@@ -97,14 +97,6 @@ def test_rank_factors_give_eq10_as_computed_from_the_ranks(n):
         fitness.rank_factors(n, 2.0)[0] = 1.0  # the memoized table is read-only
 
 
-def _numpy_mode(fn, *args):
-    previous = compiled.set_mode("never")
-    try:
-        return fn(*args)
-    finally:
-        compiled.set_mode(previous)
-
-
 @pytest.mark.parametrize("n, L, n_children", [(200, 46, 199), (31, 8, 30), (2, 2, 1), (2000, 46, 1999), (40, 10, 37)])
 def test_one_pass_breeding_equals_the_operators_one_by_one(n, L, n_children):
     """Rank Eq. 10 -> roulette -> single-point crossover -> single-point mutation, compiled in
@@ -126,20 +118,15 @@ def test_one_pass_breeding_equals_the_operators_one_by_one(n, L, n_children):
             return breeding.breed(G, parents[:m], parents[m:], lo, hi, loci, n_children)
 
         r1, r2 = np.random.default_rng(seed), np.random.default_rng(seed)
-        expected = _numpy_mode(one_by_one, r1)
-        previous = compiled.set_mode("always")
-        try:
+        with compiled.forced("never"):
+            expected = one_by_one(r1)
+        r3, elite = np.random.default_rng(seed), order[:3]
+        with compiled.forced("always"):
             got = breeding.breed_ranked_single_point(G, f, order, 2.0, 0.9, 0.5, n_children, r2)
-        finally:
-            compiled.set_mode(previous)
+            # the next population in one array: the elite's rows, then the same children
+            whole = breeding.breed_ranked_single_point(G, f, order, 2.0, 0.9, 0.5, n_children, r3, elite)
         assert got.dtype == bool and np.array_equal(got, expected)
         assert r1.bit_generator.state == r2.bit_generator.state
-        r3, elite = np.random.default_rng(seed), order[:3]
-        previous = compiled.set_mode("always")
-        try:  # the next population in one array: the elite's rows, then the same children
-            whole = breeding.breed_ranked_single_point(G, f, order, 2.0, 0.9, 0.5, n_children, r3, elite)
-        finally:
-            compiled.set_mode(previous)
         assert np.array_equal(whole, np.concatenate([G[elite], expected]))
 
 
@@ -151,13 +138,11 @@ def test_one_pass_breeding_steps_aside_without_drawing():
     order = np.argsort(f, kind="stable")
     rng = np.random.default_rng(1)
     state = rng.bit_generator.state
-    assert _numpy_mode(breeding.breed_ranked_single_point, G, f, order, 2.0, 0.9, 0.5, 9, rng) is None
-    previous = compiled.set_mode("always")
-    try:
+    with compiled.forced("never"):
+        assert breeding.breed_ranked_single_point(G, f, order, 2.0, 0.9, 0.5, 9, rng) is None
+    with compiled.forced("always"):
         assert breeding.breed_ranked_single_point(G[:, :1], f, order, 2.0, 0.9, 0.5, 9, rng) is None
         assert breeding.breed_ranked_single_point(G, f * 1e299, order, 2.0, 0.9, 0.5, 9, rng) is None
-    finally:
-        compiled.set_mode(previous)
     assert rng.bit_generator.state == state
 
 

@@ -29,8 +29,5 @@ def test_radix_order_is_numpys_stable_sort_with_nan_last(kind, n):
         expected = np.argsort(np.where(np.isnan(f), np.inf, f), kind="stable")
         assert np.array_equal(radix_order(f), expected)
         for mode in ("never", "always"):
-            previous = compiled.set_mode(mode)
-            try:
+            with compiled.forced(mode):
                 assert np.array_equal(ranking.stable_order(f), expected)
-            finally:
-                compiled.set_mode(previous)

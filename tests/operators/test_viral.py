@@ -101,14 +101,11 @@ def test_compiled_transductions_equal_the_numpy_forms(L, max_length, growth):
         hosts = np.random.default_rng(seed).random((9, L)) < 0.5
         outs = []
         for mode in ("never", "always"):
-            previous = compiled.set_mode(mode)
-            try:
+            with compiled.forced(mode):
                 rng = np.random.default_rng(seed)
                 s, n, b = viral.transduction(hosts, max_length, rng)
                 grown = viral.partial_transduction(s, n, b, hosts[::-1].copy(), max_length, rng, growth)
                 outs.append((s, n, b, *grown, rng.random()))
-            finally:
-                compiled.set_mode(previous)
         for x, y in zip(*outs):
             assert np.array_equal(x, y) and np.asarray(x).dtype == np.asarray(y).dtype
 
