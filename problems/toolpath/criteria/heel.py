@@ -40,6 +40,8 @@ import math
 import numpy as np
 from numba import njit
 
+from ..geometry.vectors import take_rows
+
 __all__ = ["N_ANGLES", "footprint_rings", "pose_gouge"]
 
 #: angles around the axis per ring
@@ -166,9 +168,11 @@ def pose_gouge(cutters, tool, p, normal, tangent, axis, jet, tip=None,
     if tip is None:
         ax = np.broadcast_to(axis, p.shape)
         tip = np.empty_like(p)
+        normal = np.asarray(normal, float)
         for j in np.unique(tool):
             rows = np.flatnonzero(tool == j)
-            tip[rows] = cutters[int(j)].cc_to_tip(p[rows], np.asarray(normal)[rows], ax[rows])
+            tip[rows] = cutters[int(j)].cc_to_tip(take_rows(p, rows), take_rows(normal, rows),
+                                                  take_rows(ax, rows))
     c = np.ascontiguousarray
     rings = [footprint_rings(cu) for cu in cutters]
     m = max(len(r[0]) for r in rings)
@@ -177,6 +181,5 @@ def pose_gouge(cutters, tool, p, normal, tangent, axis, jet, tip=None,
         rho[j, :len(r)], hgt[j, :len(h)] = r, h
     depth = _pose_depths(
         p, c(normal, float), c(tangent, float), c(np.broadcast_to(axis, p.shape), float),
-        c(tip, float), c(jet.su), c(jet.sv), c(jet.suu),
-        c(jet.suv), c(jet.svv), c(tool, np.int64), rho, hgt, np.array([len(r[0]) for r in rings], np.int64), n_angles)
+        c(tip, float), jet.su, jet.sv, jet.suu, jet.suv, jet.svv, c(tool, np.int64), rho, hgt, np.array([len(r[0]) for r in rings], np.int64), n_angles)
     return np.where(depth > _ROUND_OFF, depth, 0.0)

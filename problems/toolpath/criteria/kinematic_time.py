@@ -134,16 +134,16 @@ def _chains(pts, feed, start, a, j, delta, out):
     n = len(pts)
     length = np.zeros(n)
     unit = np.zeros((n, 3))
-    for i in range(1, n):
+    for i in range(1, n):  # scalars only: an array temporary per move is a heap allocation
         if start[i]:
             continue
-        d = pts[i] - pts[i - 1]
-        ln = math.sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2])
+        dx, dy, dz = pts[i, 0] - pts[i - 1, 0], pts[i, 1] - pts[i - 1, 1], pts[i, 2] - pts[i - 1, 2]
+        ln = math.sqrt(dx * dx + dy * dy + dz * dz)
         length[i] = ln
         if ln > 0.0:
-            unit[i] = d / ln
+            unit[i, 0], unit[i, 1], unit[i, 2] = dx / ln, dy / ln, dz / ln
         else:
-            unit[i] = unit[i - 1]
+            unit[i, 0], unit[i, 1], unit[i, 2] = unit[i - 1, 0], unit[i - 1, 1], unit[i - 1, 2]
     vmax = np.zeros(n)
     for i in range(n):
         end = i == n - 1 or start[i + 1]

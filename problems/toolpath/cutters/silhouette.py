@@ -125,7 +125,8 @@ def profile_tables(R, r, lead, tilt, m_fine: int = 192, m_uniform: int = 64,
         x = np.where(use, side * xb, 0.0)
         z = np.where(use, zn, 0.0)
         order = np.argsort(x, axis=1, kind="stable")
-        rows.append((np.take_along_axis(x, order, 1), np.take_along_axis(z, order, 1)))
+        order += np.arange(0, x.size, x.shape[1])[:, None]  # flat: np.take, not fancy indexing
+        rows.append((np.take(x, order), np.take(z, order)))
     x = np.stack([rows[0][0], rows[1][0]], axis=1).reshape(2 * n, -1)
     z = np.stack([rows[0][1], rows[1][1]], axis=1).reshape(2 * n, -1)
     z = np.maximum.accumulate(z, axis=1)  # round-off only: the profile rises from the contact

@@ -21,6 +21,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .vectors import cross_rows, row_norms
+
 __all__ = ["chord_deviation", "chord_error_normals", "chord_error_curvature",
            "circle_curvature_eq1"]
 
@@ -34,13 +36,13 @@ def chord_deviation(a, m, b) -> np.ndarray:
     d = b - a
     am = m - a
     ll = np.einsum("ij,ij->i", d, d)
-    cr = np.cross(am, d)
+    cr = cross_rows(am, d)
     with np.errstate(divide="ignore", invalid="ignore"):
         dist = np.sqrt(np.einsum("ij,ij->i", cr, cr) / ll)
     chord = ll > 0
     if chord.all():  # no zero-length chord: the norms below are not needed
         return dist
-    return np.where(chord, dist, np.linalg.norm(am, axis=-1))
+    return np.where(chord, dist, row_norms(am))
 
 
 def circle_curvature_eq1(theta, L):

@@ -15,6 +15,7 @@ import numpy as np
 
 from ..geometry.rows import ranges
 from ..geometry.surface import normal_curvature
+from ..geometry.vectors import row_norms, take_rows
 from .batch import PlanBatch
 from .overrun import edge_overrun as add_overrun
 
@@ -33,8 +34,8 @@ def finish(planner, n, zones, sec, reverse, start, count, pts, seg, tool, genes,
     pt_sec, _ = ranges(count)
     ind_pt = sec["ind"][pt_sec]
     machine = planner.machine
-    axis = machine.axes(pts["normal"], pts["tangent"], {g: np.asarray(genes[g], float)[ind_pt]
-                                                        for g in machine.genes})
+    axis = machine.axes(pts["normal"], pts["tangent"], {g: genes[g] for g in machine.genes},
+                        ind_pt)
     pt = {k: pts[k] for k in ("u", "v", "p", "chord", "normal", "tangent") + _POINT_EXTRA
           if k in pts}
     pt["axis"] = axis
@@ -48,11 +49,13 @@ def finish(planner, n, zones, sec, reverse, start, count, pts, seg, tool, genes,
         ends_tool = tool[ind_pt[ends]]
         for t in np.unique(ends_tool):
             sel = ends[ends_tool == t]
-            off = planner.tools.cutter(t).cc_to_tip(p[sel], pt["normal"][sel], axis[sel]) - p[sel]
-            tan = pt["tangent"][sel]
+            p_sel = take_rows(p, sel)
+            off = planner.tools.cutter(t).cc_to_tip(p_sel, take_rows(pt["normal"], sel),
+                                                    take_rows(axis, sel)) - p_sel
+            tan = take_rows(pt["tangent"], sel)
             ahead[sel] = np.sum(off[:, :2] * tan[:, :2], axis=1) / np.maximum(
-                np.linalg.norm(tan[:, :2], axis=1), 1e-300)
-            rho[sel] = np.linalg.norm(off[:, :2], axis=1)
+                row_norms(tan[:, :2]), 1e-300)
+            rho[sel] = row_norms(off[:, :2])
         wedge = 1.0 if machine.wedge else 0.0  # Machine.wedge
         pt, start, count, on_part, shift, (x_sec, x_len) = add_overrun(
             pt, start, count, at_head, at_tail,

@@ -25,17 +25,23 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..geometry.vectors import cross_rows, row_norms, take_rows
+
 __all__ = ["MACHINES", "Machine", "FiveAxis", "ThreeAxis", "travel_tangent", "get_machine"]
 
 
-def travel_tangent(normal, alpha, reverse) -> np.ndarray:
+def travel_tangent(normal, alpha, reverse, rows=None) -> np.ndarray:
     """Unit travel direction on the surface at each point: the section tangent of the plane
     with cross-feed c = (-sin alpha, cos alpha, 0), t = c x n normalized (along +f), negated
-    where the section is travelled along -f. normal (N, 3); alpha, reverse (N,)."""
+    where the section is travelled along -f. normal (N, 3); alpha, reverse (N,), or per
+    section with ``rows`` (N,) each point's section (the same numbers)."""
     c = np.column_stack([-np.sin(alpha), np.cos(alpha), np.zeros_like(alpha)])
-    t = np.cross(c, normal)
-    t /= np.linalg.norm(t, axis=1, keepdims=True)
-    return np.where(np.asarray(reverse, bool)[:, None], -t, t)
+    reverse = np.asarray(reverse, bool)
+    if rows is not None:
+        c, reverse = take_rows(c, rows), take_rows(reverse, rows)
+    t = cross_rows(c, normal)
+    t /= row_norms(t)[:, None]
+    return np.where(reverse[:, None], -t, t)
 
 
 class Machine:
@@ -60,8 +66,9 @@ class Machine:
         torus D16 r3 at 172 deg on Fountas' part)."""
         return self.drop
 
-    def axes(self, normal, tangent, genes: dict) -> np.ndarray:
-        """Unit tool axes (N, 3) from normals, travel tangents and per-point genes (N,)."""
+    def axes(self, normal, tangent, genes: dict, ind) -> np.ndarray:
+        """Unit tool axes (N, 3) from normals and travel tangents (N, 3), the genes of the
+        plans (n,) and each point's plan ``ind`` (N,)."""
         raise NotImplementedError
 
     def tips(self, cutter, surface, cc, normal, axis, shift=None, bend=None) -> np.ndarray:
@@ -82,12 +89,16 @@ class FiveAxis(Machine):
             raise ValueError(f"placement: a 5-axis tool is placed tangent at the CC point "
                              f"(cc), got {placement!r}")
 
-    def axes(self, normal, tangent, genes):
-        lead = np.radians(np.asarray(genes["lead"], float))[:, None]
-        tilt = np.radians(np.asarray(genes["tilt"], float))[:, None]
-        b = np.cross(normal, tangent)
-        return (np.sin(lead) * tangent + np.cos(lead) * np.sin(tilt) * b
-                + np.cos(lead) * np.cos(tilt) * normal)
+    def axes(self, normal, tangent, genes, ind):
+        """a = sin(lead) t + cos(lead) sin(tilt) (n x t) + cos(lead) cos(tilt) n; the
+        angles' functions per plan, then taken per point (the same products)."""
+        lead = np.radians(np.asarray(genes["lead"], float))
+        tilt = np.radians(np.asarray(genes["tilt"], float))
+        per_plan = np.stack([np.sin(lead), np.cos(lead) * np.sin(tilt),
+                             np.cos(lead) * np.cos(tilt)], axis=1)
+        k = take_rows(per_plan, ind)
+        b = cross_rows(normal, tangent)
+        return k[:, :1] * tangent + k[:, 1:2] * b + k[:, 2:] * normal
 
     def tips(self, cutter, surface, cc, normal, axis, shift=None, bend=None):
         """The tangent tips; a shift moves them with the end point's axis: the run past an
@@ -119,7 +130,7 @@ class ThreeAxis(Machine):
         self.drop = placement == "drop"
         self.overrun = self.drop  # the tangent placement stays the analytic model's reference
 
-    def axes(self, normal, tangent, genes):
+    def axes(self, normal, tangent, genes, ind):
         return np.broadcast_to(np.array([0.0, 0.0, 1.0]), normal.shape).copy()
 
     def tips(self, cutter, surface, cc, normal, axis=None, shift=None, bend=None):

@@ -37,6 +37,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..geometry.rows import ranges
+from ..geometry.vectors import row_norms, take_rows
 
 __all__ = ["edge_overrun"]
 
@@ -79,11 +80,11 @@ def edge_overrun(points: dict, sec_start, sec_count, at_head, at_tail, head_leng
     steps = np.where(j < h, j - h, np.where(j >= h + c, j - h - c + 1, 0))
     # along the travel tangent, scaled to unit length in XY: a 3-axis tool keeps only the
     # XY part (its height comes from the drop-cutter), a 5-axis one runs on along the tangent
-    t = points["tangent"][src]
-    t_xy = np.maximum(np.linalg.norm(t[:, :2], axis=1), 1e-9)
+    t = take_rows(points["tangent"], src)
+    t_xy = np.maximum(row_norms(t[:, :2]), 1e-9)
     step_len = np.where(steps < 0, reach_head[owner], reach_tail[owner]) / n
     shift = t * (steps * step_len / t_xy)[:, None]
-    out = {k: v[src] for k, v in points.items()}
+    out = {k: take_rows(v, src) for k, v in points.items()}
     out["p"] = out["p"] + shift
     out["chord"] = np.where(steps == 0, out["chord"], 0.0)
     added = steps != 0

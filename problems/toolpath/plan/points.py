@@ -25,6 +25,7 @@ import numpy as np
 
 from ..geometry.chord import chord_deviation
 from ..geometry.rows import interp_rows_numpy, ranges
+from ..geometry.vectors import row_norms, take_rows
 from .planes import PassGeometry, _vector
 from .seed_kernel import section_points
 
@@ -90,26 +91,28 @@ def sample_sections(geom: PassGeometry, d, ta, tb, step, tol: float,
     pt_sec, tau, a = section_points(geom.d_grid, geom.arc, geom.tau_grid, d, ta, tb, step)
     u, v, p = geom.locate(d[pt_sec], tau)
     b = a + 1
-    seg = dict(sec=pt_sec[a], ta=tau[a], tb=tau[b], pa=p[a], pb=p[b],
-               ua=u[a], va=v[a], ub=u[b], vb=v[b])
-    keep = []
+    seg = {"sec": take_rows(pt_sec, a), "ta": take_rows(tau, a), "tb": take_rows(tau, b),
+           "pa": take_rows(p, a), "pb": take_rows(p, b), "ua": take_rows(u, a),
+           "va": take_rows(v, a), "ub": take_rows(u, b), "vb": take_rows(v, b)}
+    # the segments stay in machining order (section, then tau): a split segment's parts
+    # take its place, so only the parts made in the last round are checked
+    f, fresh, err = seg, np.arange(len(a)), np.empty(len(a))
     for rnd in range(max_rounds + 1):
-        _, _, pm = geom.locate(d[seg["sec"]], 0.5 * (seg["ta"] + seg["tb"]))
-        err = chord_deviation(seg["pa"], pm, seg["pb"])
-        split = err > tol
-        if rnd == max_rounds or not split.any():
-            keep.append({**seg, "err": err})
+        _, _, pm = geom.locate(d[f["sec"]], 0.5 * (f["ta"] + f["tb"]))
+        e = chord_deviation(f["pa"], pm, f["pb"])
+        err[fresh] = e
+        split = np.flatnonzero(e > tol)
+        if rnd == max_rounds or not split.size:
             break
-        keep.append({k: x[~split] for k, x in seg.items()} | {"err": err[~split]})
-        seg = _split(geom, d, {k: x[split] for k, x in seg.items()},
-                     np.minimum(np.ceil(np.sqrt(err[split] / tol) - 1e-12), 64).astype(int))
-    s = {k: np.concatenate([blk[k] for blk in keep]) for k in keep[0]}
-    order = np.lexsort((s["ta"], s["sec"]))
-    s = {k: x[order] for k, x in s.items()}
+        m = np.minimum(np.ceil(np.sqrt(e[split] / tol) - 1e-12), 64).astype(int)
+        f = _split(geom, d, {k: take_rows(x, split) for k, x in f.items()}, m)
+        seg, err, fresh = _replace(seg, err, fresh[split], m, f)
+    s = seg | {"err": err}
     # points: segment starts, plus the end of each section's last segment
     segs_per_sec = np.bincount(s["sec"], minlength=n_sec)
-    n_pts = len(order) + n_sec
-    start_idx = np.arange(len(order)) + s["sec"]
+    n_seg = len(s["sec"])
+    n_pts = n_seg + n_sec
+    start_idx = np.arange(n_seg) + s["sec"]
     end_idx = np.cumsum(segs_per_sec) + np.arange(n_sec)
     last_seg = np.cumsum(segs_per_sec) - 1
     out = {}
@@ -126,7 +129,30 @@ def sample_sections(geom: PassGeometry, d, ta, tb, step, tol: float,
     return SectionPoints(
         sec_start=np.cumsum(count) - count, sec_count=count, u=out["u"], v=out["v"],
         p=out["p"], chord=chord, seg_sec=s["sec"], seg_err=s["err"],
-        seg_len=np.linalg.norm(s["pb"] - s["pa"], axis=-1))
+        seg_len=row_norms(s["pb"] - s["pa"]))
+
+
+def _replace(seg, err, which, m, sub):
+    """The segments (dict of arrays, in order) with segment ``which[i]`` replaced in place
+    by its m[i] parts ``sub`` (in order, grouped by segment): (segments, errors (the parts'
+    left to fill), the parts' positions)."""
+    parts = np.ones(len(err), int)
+    parts[which] = m
+    start = np.cumsum(parts) - parts
+    keep = np.ones(len(err), bool)
+    keep[which] = False
+    kept, kept_at = np.flatnonzero(keep), start[keep]
+    owner, j = ranges(m)
+    sub_at = start[which][owner] + j
+    out = {}
+    for k, x in seg.items():
+        arr = np.empty((int(parts.sum()),) + x.shape[1:], x.dtype)
+        arr[kept_at] = take_rows(x, kept)
+        arr[sub_at] = sub[k]
+        out[k] = arr
+    new_err = np.empty(len(arr))
+    new_err[kept_at] = take_rows(err, kept)
+    return out, new_err, sub_at
 
 
 def _split(geom, d, seg, m):

@@ -11,7 +11,8 @@ import pytest
 from evoplan.problems.toolpath.criteria.scallop_3axis import cusp_heights, cusp_heights_numpy
 from evoplan.problems.toolpath.geometry.spec import parse_surface
 from evoplan.problems.toolpath.plan.planes import PassGeometry, newton_step_numpy
-from evoplan.problems.toolpath.plan.points import section_points_numpy
+from evoplan.problems.toolpath.geometry.chord import chord_deviation
+from evoplan.problems.toolpath.plan.points import sample_sections, section_points_numpy
 from evoplan.problems.toolpath.plan.sections import (_band_inside_numpy, _band_runs_numpy,
                                                       edge_runs, edge_runs_numpy)
 from evoplan.problems.toolpath.plan.seed_kernel import (band_inside, band_runs, newton_step,
@@ -152,3 +153,62 @@ def test_band_runs_equal_the_numpy_forms_on_a_whole_footprint(geom):
     assert len(got[0]) > P
     for a, b in zip(got, ref):
         assert a.dtype == b.dtype and (same_bits(a, b) if a.dtype == float else np.array_equal(a, b))
+
+
+def refined_one_by_one(geom, d, ta, tb, step, tol, max_rounds):
+    """The chord refinement of ``sample_sections`` written segment by segment: each
+    section's first points, then every segment over the tolerance replaced where it lies by
+    m = ceil(sqrt(e / tol)) equal parts in tau, round after round. (tau, err, rounds that
+    split) per section."""
+    pt_sec, tau, _ = section_points_numpy(geom, d, ta, tb, step)
+    out = []
+    for k in range(len(d)):
+        t = list(tau[pt_sec == k])
+        segs = [(t[i], t[i + 1], None) for i in range(len(t) - 1)]
+        splits = 0
+        for rnd in range(max_rounds + 1):
+            nxt, split_any = [], False
+            for a, b, e in segs:
+                if e is None:
+                    # three points at once: one point alone takes BLAS' matrix-vector
+                    # product in the surface's jet, whose sums round differently
+                    pa, pm, pb = geom.locate(np.full(3, d[k]), np.array([a, 0.5 * (a + b), b]))[2]
+                    e = float(chord_deviation(pa[None], pm[None], pb[None])[0])
+                    if e > tol and rnd < max_rounds:
+                        m = min(int(np.ceil(np.sqrt(e / tol) - 1e-12)), 64)
+                        cuts = [a] + [a + (b - a) * j / m for j in range(1, m)] + [b]
+                        nxt += [(cuts[j], cuts[j + 1], None) for j in range(m)]
+                        split_any = True
+                        continue
+                nxt.append((a, b, e))
+            segs = nxt
+            if not split_any:
+                break
+            splits += 1
+        out.append(([s[0] for s in segs] + [segs[-1][1]], [s[2] for s in segs], splits))
+    return out
+
+
+def test_refined_points_stay_in_machining_order_through_every_round(geom):
+    """A coarse step and a tight tolerance need several rounds of splits: every section's
+    points and chord errors are those of the segment-by-segment refinement, in order (a
+    split segment's parts where it lay)."""
+    rng = np.random.default_rng(8)
+    n = 12
+    d = rng.uniform(geom.d_min, geom.d_max, n)
+    ta, tb = np.zeros(n), np.ones(n)
+    ta[:4], tb[:4] = 0.2, 0.6
+    step, tol, rounds = np.full(n, 60.0), 2e-4, 3
+    got = sample_sections(geom, d, ta, tb, step, tol, max_rounds=rounds)
+    ref = refined_one_by_one(geom, d, ta, tb, step, tol, rounds)
+    seg_at = np.cumsum(got.sec_count - 1) - (got.sec_count - 1)
+    assert max(r[2] for r in ref) >= 2  # sections split in two rounds or more
+    for k, (tau, err, _) in enumerate(ref):
+        rows = slice(got.sec_start[k], got.sec_start[k] + got.sec_count[k])
+        _, _, p = geom.locate(np.full(len(tau), d[k]), np.array(tau))
+        # the same points to round-off: located in other batches, BLAS may round the jet's
+        # sums in the last bit (a point alone or at a block's edge)
+        assert got.p[rows].shape == p.shape and np.abs(got.p[rows] - p).max() < 1e-12
+        assert np.allclose(got.seg_err[seg_at[k]:seg_at[k] + len(err)], err, rtol=1e-9,
+                           atol=1e-15)
+    assert np.array_equal(got.seg_sec, np.repeat(np.arange(n), got.sec_count - 1))

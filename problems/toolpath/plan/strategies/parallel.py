@@ -14,6 +14,7 @@ import numpy as np
 
 from ...geometry.rows import ranges
 from ...geometry.surface import unit_normal
+from ...geometry.vectors import take_rows
 from ..finish import finish
 from ..orientation import travel_tangent
 from ..points import sample_sections
@@ -80,9 +81,9 @@ def _assemble(planner, n, zones, parts, tool, genes, place):
     inv = np.empty(len(order), np.int64)
     inv[order] = np.arange(len(order))
     seg_order = np.argsort(inv[seg_sec], kind="stable")
-    u, v, p, chord = (pts[k][src] for k in ("u", "v", "p", "chord"))
+    u, v, p, chord = (take_rows(pts[k], src) for k in ("u", "v", "p", "chord"))
     normal = unit_normal(planner.surface.jet(u, v, order=1), planner.surface.normal_sign)
-    tangent = travel_tangent(normal, sec["alpha"][pt_sec], reverse[pt_sec])
+    tangent = travel_tangent(normal, sec["alpha"], reverse, rows=pt_sec)
     seg = {"sec": inv[seg_sec][seg_order], "err": pts["seg_err"][seg_order],
            "len": pts["seg_len"][seg_order], "cc": np.ones(len(seg_order), bool)}
     pt = {"u": u, "v": v, "p": p, "chord": chord, "normal": normal, "tangent": tangent}
