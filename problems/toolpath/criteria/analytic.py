@@ -50,6 +50,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..geometry.surface import normal_curvature, unit_normal
+from ..geometry.vectors import row_norms, take_rows
 from .heel import pose_gouge
 from .kinematic_time import kinematic_time
 from .scallop import gap_heights
@@ -116,10 +117,11 @@ def point_heights(batch, surface, tools, genes, *, allowance, machine=None) -> d
     if curves:
         c3 = batch.pt_cross
     else:
-        alpha = batch.sec_alpha[sec]
-        c3 = np.column_stack([-np.sin(alpha), np.cos(alpha), np.zeros_like(alpha)])
+        alpha = batch.sec_alpha  # per section, then taken per point (the same numbers)
+        c3 = take_rows(np.column_stack([-np.sin(alpha), np.cos(alpha), np.zeros_like(alpha)]),
+                       sec)
     bvec = c3 - np.einsum("ij,ij->i", nrm, c3)[:, None] * nrm
-    bc = np.linalg.norm(bvec, axis=-1)  # = b.c, b the unit cross-feed tangent
+    bc = row_norms(bvec)  # = b.c, b the unit cross-feed tangent
     kappa = normal_curvature(jet, bvec / bc[:, None], surface.normal_sign, nrm)
     w = (batch.pt_gap if curves else batch.sec_spacing[sec]) / bc
     side = batch.pt_gap_side if curves else batch.sec_side[sec]
@@ -169,8 +171,8 @@ def plan_lengths(batch) -> dict[str, np.ndarray]:
     n = batch.n
     cutting = np.bincount(batch.sec_ind[batch.seg_sec], batch.seg_len, n)
     s = np.flatnonzero(batch.sec_ind[1:] == batch.sec_ind[:-1])  # section s -> s + 1
-    end = batch.p[batch.sec_start[s] + batch.sec_count[s] - 1]
-    dist = np.linalg.norm(batch.p[batch.sec_start[s + 1]] - end, axis=-1)
+    end = take_rows(batch.p, batch.sec_start[s] + batch.sec_count[s] - 1)
+    dist = row_norms(take_rows(batch.p, batch.sec_start[s + 1]) - end)
     same = batch.sec_zone[s + 1] == batch.sec_zone[s]
     own = batch.sec_ind[s]
     return {"cutting_length": cutting,

@@ -40,6 +40,7 @@ import math
 import numpy as np
 from numba import njit
 
+from ..geometry.rows import present
 from ..geometry.vectors import take_rows
 
 __all__ = ["N_ANGLES", "footprint_rings", "pose_gouge"]
@@ -169,7 +170,7 @@ def pose_gouge(cutters, tool, p, normal, tangent, axis, jet, tip=None,
         ax = np.broadcast_to(axis, p.shape)
         tip = np.empty_like(p)
         normal = np.asarray(normal, float)
-        for j in np.unique(tool):
+        for j in present(tool):
             rows = np.flatnonzero(tool == j)
             tip[rows] = cutters[int(j)].cc_to_tip(take_rows(p, rows), take_rows(normal, rows),
                                                   take_rows(ax, rows))

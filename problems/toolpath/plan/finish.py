@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..geometry.rows import ranges
+from ..geometry.rows import present, ranges
 from ..geometry.surface import normal_curvature
 from ..geometry.vectors import row_norms, take_rows
 from .batch import PlanBatch
@@ -73,7 +73,7 @@ def finish(planner, n, zones, sec, reverse, start, count, pts, seg, tool, genes,
     if place:
         tip = np.empty_like(pt["p"])
         bend = _bend(planner.surface, pt, on_part) if machine.bends else None
-        for t in np.unique(tool[ind_pt]):
+        for t in present(tool[ind_pt]):
             sel = tool[ind_pt] == t
             tip[sel] = machine.tips(planner.tools.cutter(t), planner.surface,
                                     pt["p"][sel] - shift[sel], pt["normal"][sel],

@@ -1,6 +1,7 @@
-"""``geometry/vectors.py`` gives numpy's general routines' numbers bit for bit: row norms
-as ``np.linalg.norm(axis=-1)``, cross products as ``np.cross``, row gathers as fancy
-indexing; on values of every magnitude, zeros of both signs, infinities and NaN."""
+"""``geometry/vectors.py`` gives numpy's general routines' numbers bit for bit: row norms as
+``np.linalg.norm(axis=-1)``, cross products as ``np.cross``, row gathers as fancy indexing;
+on values of every magnitude, zeros of both signs, infinities and NaN. ``rows.present``
+gives ``np.unique``'s labels."""
 
 import numpy as np
 import pytest
@@ -60,3 +61,14 @@ def test_take_rows_is_fancy_indexing():
     assert take_rows(a, np.zeros(0, int)).shape == (0, 3)
     with pytest.raises(IndexError):
         take_rows(a, np.array([1000]))
+
+
+def test_present_labels_are_np_unique():
+    from evoplan.problems.toolpath.geometry.rows import present
+
+    rng = np.random.default_rng(4)
+    for labels in (rng.integers(0, 9, 5000), np.array([3, 3, 3]), np.zeros(0, int),
+                   rng.integers(0, 2, (40, 3))):
+        assert np.array_equal(present(labels), np.unique(labels))
+    with pytest.raises(ValueError):
+        present(np.array([-1, 2]))
