@@ -14,7 +14,9 @@ theorem (``kernel.entry_gradient``), so:
   a move whose L is above the best entry found so far cannot deepen the cell;
 - else the minimum is bracketed and the bracket shrinks by secant steps on f' (exact for a
   smooth, nearly quadratic f) or by the tangents' crossing (exact for a V-shaped f: a
-  sharp rim passing the ray), until the best value found is within ``tol`` mm of L.
+  sharp rim passing the ray), until the best value found is within ``tol`` mm of L. The
+  neighbouring cells' minimum along the move, extrapolated, is tried first, and a Newton
+  step with their curvature follows it: in a row of cells the minimum moves on steadily.
 
 A move whose one end misses the ray is bisected towards the end that hits until the hit
 stretch is bracketed; a move whose both ends miss is tried where its tip passes closest to
@@ -114,12 +116,26 @@ def _bend(ka, kb):
 
 @njit(cache=True, nogil=True, error_model="numpy")
 def _move_min(i, j, tip, axis, px, py, pz, dx, dy, dz, prm, fa, sa, na, fb, sb, nb, best,
-              tol, bend_tol, near_miss, n_golden, g, stk, stats, s0, lo, hi):
-    """(best, s): the deepest entry over move i -> j (s in [0, 1]) if it is below ``best``
-    (else best, -1) and where it is. fa, sa, na / fb, sb, nb: entry, slope and 1 / cos at
-    the ends (see the module doc); s0 in (0, 1): where to try first (the neighbouring
-    cell's deepest pose); [lo, hi]: the stretch outside which the move cannot cut below
-    best, the only one searched (fa ... nb then hold placeholders for an end outside it).
+              tol, bend_tol, near_miss, n_golden, g, stk, stats, s0, lo, hi, c0=-1.0,
+              ends=True):
+    """(best, s, s_low, c): the deepest entry over move i -> j (s in [0, 1]) if it is below
+    ``best`` (else best, -1) and where it is; s_low where this search's lowest entry lay
+    (-1 if it evaluated none) and c the curvature of f there (the slopes' secant of its last
+    two points; -1 if unknown), for the next cell's search. fa, sa, na / fb, sb, nb: entry,
+    slope and 1 / cos at the ends (see the module doc); s0 in (0, 1): where to try first
+    (the neighbouring cells' deepest pose); c0: the curvature there, for the first Newton
+    step; [lo, hi]: the stretch outside which the move cannot cut below best, the only one
+    searched (fa ... nb then hold placeholders for an end outside it). ``ends`` False: the
+    caller took no end entries (lo = 0, hi = 1, s0 inside): the search starts at s0, each
+    side bounded by the tangent there alone as beside an end that misses, and takes the ends
+    only if the ray misses at s0.
+
+    Where the points go: regula falsi on f' (or the tangents' crossing) inside a bracket,
+    else halves; near the last point evaluated, a Newton step with the curvature of the
+    last two (or c0); and where the convex bound already holds and only the bend allowance
+    keeps an interval open, the point that closes the part next to its lower end in one
+    step (the allowance's dip kap x^2 / 4 within ``bend_tol``, or the tangent still
+    rising), instead of halving towards it. The points change the work, not the bounds.
 
     Branch and bound over sub-intervals of the move, each bounded by :func:`_bound` with
     kap, a bound of how far the turning axis bends f away from convex (the cutter frame
@@ -127,21 +143,54 @@ def _move_min(i, j, tip, axis, px, py, pz, dx, dy, dz, prm, fa, sa, na, fb, sb, 
     |f''| of the non-convex part <= 2 |da/ds| (|v| + |f'|) / cos), with a factor 2 to spare."""
     s_best = -1.0
     if i == j:
-        return best, s_best
+        return best, s_best, -1.0, -1.0
+    f_low, s_low = INF, -1.0  # the lowest entry this search evaluated, below best or not
     vx, vy, vz = tip[j, 0] - tip[i, 0], tip[j, 1] - tip[i, 1], tip[j, 2] - tip[i, 2]
     vlen = math.sqrt(vx * vx + vy * vy + vz * vz)
-    # only [lo, hi] can cut below best (the spans' geometric bounds): its ends
-    if lo > 0.0:
+    s_l = sl_l = s_p = sl_p = 0.0  # the loop's last two points and their slopes
+    hit_l = hit_p = False
+    evals = 0
+    n = 0
+    if not ends:
+        # the ends' entries not taken (fa ... nb placeholders; lo = 0, hi = 1, s0 inside):
+        # start at s0, each side bounded by the tangent there alone, as beside an end that
+        # misses; if s0 misses, take the ends after all
+        f, sl, nu = _at(s0, i, j, tip, axis, px, py, pz, dx, dy, dz, prm, g)
+        stats[2] += 1
+        evals = 1
+        if f < _HALF:
+            f_low, s_low = f, s0
+            if f < best:
+                best, s_best = f, s0
+            if sl < 0.0:  # f falls towards hi: that side first (pushed last)
+                stk[0, :] = (lo, s0, INF, 0.0, 0.0, f, sl, nu, 0.0)
+                stk[1, :] = (s0, hi, f, sl, nu, INF, 0.0, 0.0, 0.0)
+            else:
+                stk[0, :] = (s0, hi, f, sl, nu, INF, 0.0, 0.0, 0.0)
+                stk[1, :] = (lo, s0, INF, 0.0, 0.0, f, sl, nu, 0.0)
+            n = 2
+            s_l, sl_l, hit_l = s0, sl, True
+    # only [lo, hi] can cut below best (the spans' geometric bounds): its ends (the whole
+    # move's too when the caller took none and s0 missed)
+    if n > 0:
+        pass
+    elif lo > 0.0 or not ends:
         fa, sa, na = _at(lo, i, j, tip, axis, px, py, pz, dx, dy, dz, prm, g)
         stats[2] += 1
+        if fa < f_low:
+            f_low, s_low = fa, lo
         if fa < best:
             best, s_best = fa, lo
-    if hi < 1.0:
+    if n == 0 and (hi < 1.0 or not ends):
         fb, sb, nb = _at(hi, i, j, tip, axis, px, py, pz, dx, dy, dz, prm, g)
         stats[2] += 1
+        if fb < f_low:
+            f_low, s_low = fb, hi
         if fb < best:
             best, s_best = fb, hi
-    if fa >= _HALF and fb >= _HALF:
+    if n > 0:
+        pass
+    elif fa >= _HALF and fb >= _HALF:
         # both ends miss: try where the tip passes closest to the cell (in XY)
         vv = vx * vx + vy * vy
         sc = 0.5 * (lo + hi) if vv <= 0.0 else min(max(
@@ -149,10 +198,12 @@ def _move_min(i, j, tip, axis, px, py, pz, dx, dy, dz, prm, fa, sa, na, fb, sb, 
         f, sl, nu = _at(sc, i, j, tip, axis, px, py, pz, dx, dy, dz, prm, g)
         if f >= _HALF:
             if f - MISS > near_miss:
-                return best, s_best
+                return best, s_best, s_low, -1.0
             stats[3] += 1
             return min(best, _golden(i + lo, i + hi, i, i + 1, tip, axis, px, py, pz, dx, dy,
-                                     dz, prm, n_golden)), s_best
+                                     dz, prm, n_golden)), s_best, s_low, -1.0
+        if f < f_low:
+            f_low, s_low = f, sc
         if f < best:
             best, s_best = f, sc
         stk[0, :] = (lo, sc, fa, sa, nu, f, sl, nu, 0.0)
@@ -161,7 +212,6 @@ def _move_min(i, j, tip, axis, px, py, pz, dx, dy, dz, prm, fa, sa, na, fb, sb, 
     else:
         stk[0, :] = (lo, hi, fa, sa, na, fb, sb, nb, 0.0)
         n = 1
-    evals = 0
     while n > 0:
         n -= 1
         a, b, fa, sa, na, fb, sb, nb, kept = stk[n]
@@ -188,11 +238,38 @@ def _move_min(i, j, tip, axis, px, py, pz, dx, dy, dz, prm, fa, sa, na, fb, sb, 
         else:
             s = 0.5 * (a + b)
             kept = 0.0
+        if l0 >= best - tol and (fa < _HALF or fb < _HALF):
+            # convex, f cannot dip below best - tol here: only the bend allowance keeps the
+            # interval open. Split it where the part next to its lower end closes in one step
+            # by that end's allowance (the tangent still rising, or the dip kap x^2 / 4
+            # within bend_tol), not by halves or by regula falsi's 1 % steps
+            low_a = fa <= fb
+            rise, kap, f_end = (sa, _bend(na, na), fa) if low_a else (-sb, _bend(nb, nb), fb)
+            if kap > 0.0:
+                x = 0.9 * max(2.0 * rise / kap,
+                              2.0 * math.sqrt(max(f_end - best + bend_tol, 0.0) / kap))
+                if 0.01 * w < x < 0.5 * w:
+                    s = a + x if low_a else b - x
+        elif hit_l:
+            # near the last point f is nearly a parabola: a Newton step on f', with the
+            # curvature of the last two points (the neighbouring cell's after the first)
+            cur = (sl_l - sl_p) / (s_l - s_p) if hit_p and s_l != s_p else c0
+            if cur > 0.0:
+                sn = s_l - sl_l / cur
+                # inside, or (refining the end just found) closer to that end than 1 %
+                if a + 0.01 * w < sn < b - 0.01 * w or (
+                        a + 1e-9 < sn < b - 1e-9 and (s_l == a or s_l == b)
+                        and abs(sn - s_l) < 0.01 * w):
+                    s = sn
         if evals == 0 and a < s0 < b:
             s = s0
         f, sl, nu = _at(s, i, j, tip, axis, px, py, pz, dx, dy, dz, prm, g)
+        s_p, sl_p, hit_p = s_l, sl_l, hit_l
+        s_l, sl_l, hit_l = s, sl, f < _HALF
         evals += 1
         stats[2] += 1
+        if f < f_low:
+            f_low, s_low = f, s
         if f < best:
             best, s_best = f, s
         # the side towards which f falls is searched first (pushed last); ``kept`` counts
@@ -204,4 +281,5 @@ def _move_min(i, j, tip, axis, px, py, pz, dx, dy, dz, prm, fa, sa, na, fb, sb, 
             stk[n, :] = (s, b, f, sl, nu, fb, sb, nb, 0.0)
             stk[n + 1, :] = (a, s, fa, sa, na, f, sl, nu, max(kept, 0.0) + 1.0)
         n += 2
-    return best, s_best
+    c_out = (sl_l - sl_p) / (s_l - s_p) if hit_l and hit_p and s_l != s_p else -1.0
+    return best, s_best, s_low, c_out

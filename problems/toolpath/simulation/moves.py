@@ -10,7 +10,11 @@ ray's least distance from the axis) shows it cannot cut below the best entry fou
 where the bound over the whole move fails, it is taken again over spans of the move
 (:func:`_geo_spans`), which may still skip it or leave only a stretch [lo, hi] to search.
 Otherwise the ends within that stretch are evaluated (a CL point's entry and gradient serve
-both moves that meet there) and ``convex._move_min`` searches it.
+both moves that meet there) and ``convex._move_min`` searches it. Each move remembers, within
+a tile's row, where its search found its lowest entry in the last two cells and the
+curvature there: the next cell's search starts from that pose extrapolated. The first move a
+cell searches (no best entry yet, the whole move) starts there without its ends' entries,
+unless that pose misses.
 """
 
 from __future__ import annotations
@@ -208,6 +212,11 @@ def sweep_moves(res, x0, y0, h, pz, nrm, inside, vertical, tip, axis, mv_i, mv_j
     cg = np.empty((n_max, 2, 6))
     have = np.zeros((n_max, 2), np.bool_)  # the entries at a candidate's ends computed
     gs = np.empty(6)
+    # per move, within a tile's row: where its search found its lowest entry in the last
+    # two cells it searched (mv_cell: iy nx + ix) and the curvature there
+    n_mv = mv_i.shape[0]
+    mv_s1, mv_s2, mv_c = np.full(n_mv, -1.0), np.full(n_mv, -1.0), np.full(n_mv, -1.0)
+    mv_cell1, mv_cell2 = np.full(n_mv, -1, np.int64), np.full(n_mv, -1, np.int64)
     for tile in range(ptr.shape[0] - 1):
         if ptr[tile + 1] == ptr[tile]:
             continue
@@ -260,10 +269,23 @@ def sweep_moves(res, x0, y0, h, pz, nrm, inside, vertical, tip, axis, mv_i, mv_j
                                                 geo, gs)
                             if lo > hi:
                                 continue
+                    cell = iy * nx + ix
+                    row0 = iy * nx + kx * ts  # the tile row's first cell
+                    near = mv_cell1[m] == cell - 1 and cell - 1 >= row0
+                    s0, c0 = (hint_s if m == hint_m else -1.0), -1.0
+                    if near:
+                        s0, c0 = mv_s1[m], mv_c[m]
+                        if mv_cell2[m] == cell - 2 and cell - 2 >= row0:
+                            s0 = 2.0 * mv_s1[m] - mv_s2[m]  # the minimum moves on steadily
+                    # the first move searched, from a pose inside it: its ends' entries are
+                    # not needed unless that pose misses (``convex._move_min``)
+                    ends = not (best >= _HALF and lo == 0.0 and hi == 1.0 and i != j
+                                and 0.02 < s0 < 0.98)
                     # a CL point's entry serves both moves that meet there; an end outside
                     # [lo, hi] is not needed (its entry stays 0, a placeholder)
                     f0 = f1 = 0.0
-                    if lo == 0.0:
+                    cf[c, 1] = cf[c, 2] = cf[c, 4] = cf[c, 5] = 0.0
+                    if ends and lo == 0.0:
                         if c > 0 and have[c - 1, 1] and mv_j[cm[c - 1]] == i:
                             f0 = cf[c - 1, 3]
                             cg[c, 0, :] = cg[c - 1, 1, :]
@@ -272,7 +294,7 @@ def sweep_moves(res, x0, y0, h, pz, nrm, inside, vertical, tip, axis, mv_i, mv_j
                             f0 = _point(i, tip, axis, px, py, p_z, dx, dy, dz, prm, cg[c, 0])
                         have[c, 0] = True
                         cf[c, 1], cf[c, 2] = _end_slope(cg[c, 0], i, i, j, tip, axis)
-                    if hi == 1.0:
+                    if ends and hi == 1.0:
                         if j == i:
                             f1 = f0
                             cg[c, 1, :] = cg[c, 0, :]
@@ -291,11 +313,13 @@ def sweep_moves(res, x0, y0, h, pz, nrm, inside, vertical, tip, axis, mv_i, mv_j
                         best, best_m, best_s = f0, m, 0.0
                     if have[c, 1] and f1 < best:
                         best, best_m, best_s = f1, m, 1.0
-                    got, s_got = _move_min(i, j, tip, axis, px, py, p_z, dx, dy, dz, prm,
-                                           cf[c, 0], cf[c, 1], cf[c, 2], cf[c, 3], cf[c, 4],
-                                           cf[c, 5], best, tol, bend_tol, near_miss, n_golden,
-                                           gs, stk, stats, hint_s if m == hint_m else -1.0,
-                                           lo, hi)
+                    got, s_got, s_low, c_got = _move_min(
+                        i, j, tip, axis, px, py, p_z, dx, dy, dz, prm, cf[c, 0], cf[c, 1],
+                        cf[c, 2], cf[c, 3], cf[c, 4], cf[c, 5], best, tol, bend_tol,
+                        near_miss, n_golden, gs, stk, stats, s0, lo, hi, c0, ends)
+                    if s_low >= 0.0:
+                        mv_s2[m], mv_cell2[m] = mv_s1[m], mv_cell1[m]
+                        mv_s1[m], mv_cell1[m], mv_c[m] = s_low, cell, c_got
                     if got < best:
                         best, best_m, best_s = got, m, s_got
                 res[iy, ix] = best if best < _HALF else INF

@@ -192,8 +192,8 @@ def sweep_path(path: CLPath, grid: DesignGrid, *, vertical: bool = False, method
     residual is the single-threaded one bit for bit). Measured
     on Fountas' part (0.2 mm grid, ``runs/bench/simulation_accuracy.py``) against the stamp
     sweep with poses 0.05 mm apart, 6 slots, refined to 2e-4 mm of travel: torus D16 r3
-    (the VEGA set) and ball D12 within 5e-6 mm, flat D8 within 1.5e-5 mm, on every cell
-    (about the search's tolerance and the reference's own error). A ray that only
+    (the VEGA set) within 5e-6 mm, ball D12 within 1e-5 mm, flat D8 within 1.6e-5 mm, on
+    every cell (about the search's tolerance and the reference's own error). A ray that only
     grazes the rim far above the part (entries over ~1 mm) may stop at the search's 60
     entries a few um off.
 

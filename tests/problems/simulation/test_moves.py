@@ -9,7 +9,7 @@ from evoplan.problems.toolpath.cutters import make_cutter
 from evoplan.problems.toolpath.clpath import CLPath
 from evoplan.problems.toolpath.problem import ToolpathProblem
 from evoplan.problems.toolpath.simulation import analytic_grid, design_grid, sweep_path
-from evoplan.problems.toolpath.simulation.convex import _at
+from evoplan.problems.toolpath.simulation.convex import _at, _move_min
 from evoplan.problems.toolpath.simulation.kernel import MISS
 from evoplan.problems.toolpath.simulation.moves import _geo, _geo_spans
 
@@ -117,3 +117,45 @@ def test_a_rim_that_only_grazes_the_cell_mid_move_still_cuts():
     got = sweep_path(path, g).values
     assert g.inside.sum() >= 200
     assert np.abs(got[g.inside]).max() < 1e-9  # the rim's flat bottom, not the pass 0.5 up
+
+
+@pytest.mark.parametrize("R, r", [(8.0, 3.0), (6.0, 6.0), (4.0, 0.0)])
+def test_a_search_from_a_pose_without_its_ends_finds_the_same_minimum(R, r):
+    # the first move a cell searches starts from a pose inside it (the neighbouring cells'
+    # minimum, extrapolated) and skips the entries at its ends; where that pose misses
+    # the ray it takes them after all. Either way the search finds, within its tolerances,
+    # the minimum a dense scan of the move finds (rays entering within 1 mm of the part),
+    # and what the search with its ends finds
+    tip, ax = _turning_move([6.0, 1.0, 0.5], [0.14, 0.03, 1.0])
+    prm = make_cutter(2 * R, r).kernel_params()
+    rng = np.random.default_rng(7)
+    g, stk, stats = np.empty(6), np.empty((64, 9)), np.zeros(4, np.int64)
+    s = np.linspace(0.0, 1.0, 4001)
+    tol, bend_tol = 1e-5, 1e-4
+    found = fell_back = 0
+    for _ in range(300):
+        p = np.r_[rng.uniform(-R - 1, 7 + R, 2), rng.uniform(-1.0, 1.0)]
+        d = np.r_[rng.normal(0, 0.15, 2), 1.0]
+        d /= np.linalg.norm(d)
+        f = np.array([_at(si, 0, 1, tip, ax, *p, *d, prm, g)[0] for si in s])
+        if f.min() > 1.0:
+            continue  # no entry within 1 mm of the part (a ray that only grazes the shank)
+        fa, sa, na = _at(0.0, 0, 1, tip, ax, *p, *d, prm, g)
+        fb, sb, nb = _at(1.0, 0, 1, tip, ax, *p, *d, prm, g)
+        s0 = rng.uniform(0.03, 0.97)
+        with_ends = _move_min(0, 1, tip, ax, *p, *d, prm, fa, sa, na, fb, sb, nb,
+                              min(fa, fb), tol, bend_tol, 0.05, 30, g, stk, stats, s0, 0.0,
+                              1.0)[0]
+        before = stats[2]
+        no_ends, _, s_low, _ = _move_min(0, 1, tip, ax, *p, *d, prm, 0.0, 0.0, 0.0, 0.0, 0.0,
+                                         0.0, np.inf, tol, bend_tol, 0.05, 30, g, stk, stats,
+                                         s0, 0.0, 1.0, -1.0, False)
+        fell_back += bool(_at(s0, 0, 1, tip, ax, *p, *d, prm, g)[0] >= 0.5 * MISS)
+        assert stats[2] > before and 0.0 <= s_low <= 1.0
+        # at most the tolerances above the true minimum (<= the scan's), never below the scan
+        # by more than its spacing can hide (a rim's V between two samples)
+        for got in (with_ends, no_ends):
+            assert f.min() - 2e-3 <= got <= f.min() + bend_tol
+        assert abs(no_ends - with_ends) <= bend_tol
+        found += 1
+    assert found > 40 and fell_back > 3, (found, fell_back)
