@@ -22,10 +22,12 @@ def transcribe(trials, virus, start, length, bits):
     changed = np.zeros(trials.shape[0], dtype=np.bool_)
     for p in range(trials.shape[0]):
         v = virus[p]
-        for k in range(start[v], start[v] + length[v]):
-            if trials[p, k] != bits[v, k]:
-                trials[p, k] = bits[v, k]
-                changed[p] = True
+        ch = False
+        for k in range(start[v], start[v] + length[v]):  # no branch: a vector loop
+            b = bits[v, k]
+            ch |= trials[p, k] != b
+            trials[p, k] = b
+        changed[p] = ch
     return changed
 
 
