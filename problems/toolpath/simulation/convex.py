@@ -135,7 +135,9 @@ def _move_min(i, j, tip, axis, px, py, pz, dx, dy, dz, prm, fa, sa, na, fb, sb, 
     last two (or c0); and where the convex bound already holds and only the bend allowance
     keeps an interval open, the point that closes the part next to its lower end in one
     step (the allowance's dip kap x^2 / 4 within ``bend_tol``, or the tangent still
-    rising), instead of halving towards it. The points change the work, not the bounds.
+    rising), instead of halving towards it. The points change the work, not the bounds; an
+    interval reaching an end whose entry was not taken takes its bend allowance from its
+    other end alone, as one reaching an end that misses always has.
 
     Branch and bound over sub-intervals of the move, each bounded by :func:`_bound` with
     kap, a bound of how far the turning axis bends f away from convex (the cutter frame
