@@ -33,7 +33,7 @@ def infect_pairs(G, host, virus, start, length, bits):
         trials = np.take(G, host, axis=0)  # a copy; 4x faster than G[host] at 2000 pairs
         return trials, transcribe(trials, virus, start, length, bits)
     trials = viral.infect(G, host, virus, start, length, bits)
-    return trials, (trials != G[host]).any(axis=1)
+    return trials, (trials != np.take(G, host, axis=0)).any(axis=1)
 
 
 def infection_outcome(virus, host, changed, f_trial, f_host, n_viruses, improve):
