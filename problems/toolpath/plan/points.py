@@ -139,6 +139,7 @@ def _replace(seg, err, which, m, sub):
     parts = np.ones(len(err), int)
     parts[which] = m
     start = np.cumsum(parts) - parts
+    n_new = int(parts.sum())
     keep = np.ones(len(err), bool)
     keep[which] = False
     kept, kept_at = np.flatnonzero(keep), start[keep]
@@ -146,11 +147,11 @@ def _replace(seg, err, which, m, sub):
     sub_at = start[which][owner] + j
     out = {}
     for k, x in seg.items():
-        arr = np.empty((int(parts.sum()),) + x.shape[1:], x.dtype)
+        arr = np.empty((n_new,) + x.shape[1:], x.dtype)
         arr[kept_at] = take_rows(x, kept)
         arr[sub_at] = sub[k]
         out[k] = arr
-    new_err = np.empty(len(arr))
+    new_err = np.empty(n_new)
     new_err[kept_at] = take_rows(err, kept)
     return out, new_err, sub_at
 
