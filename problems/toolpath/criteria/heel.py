@@ -182,5 +182,6 @@ def pose_gouge(cutters, tool, p, normal, tangent, axis, jet, tip=None,
         rho[j, :len(r)], hgt[j, :len(h)] = r, h
     depth = _pose_depths(
         p, c(normal, float), c(tangent, float), c(np.broadcast_to(axis, p.shape), float),
-        c(tip, float), jet.su, jet.sv, jet.suu, jet.suv, jet.svv, c(tool, np.int64), rho, hgt, np.array([len(r[0]) for r in rings], np.int64), n_angles)
+        c(tip, float), jet.su, jet.sv, jet.suu, jet.suv, jet.svv, c(tool, np.int64), rho, hgt,
+        np.array([len(r[0]) for r in rings], np.int64), n_angles)
     return np.where(depth > _ROUND_OFF, depth, 0.0)

@@ -8,7 +8,7 @@ so ``sqrt((x*x + y*y) + z*z)`` is the same number. ``a[idx]`` on a 2-D array gat
 through numpy's general fancy indexing; ``np.take(a, idx, axis=0)`` copies the same rows
 3-4x faster (measured on a 5-axis plan batch: 1.31 against 0.34 ms for 133 000 points).
 ``np.cross`` moves axes and casts before the products :func:`cross_rows` writes out in its
-order.
+order (6.3 against 0.87 ms for 133 000 rows).
 """
 
 from __future__ import annotations

@@ -115,6 +115,17 @@ def _bend(ka, kb):
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
+def _noted(f, s, f_low, s_low, best, s_best):
+    """(f_low, s_low, best, s_best) after an entry f at s: the search's lowest entry and the
+    cell's best."""
+    if f < f_low:
+        f_low, s_low = f, s
+    if f < best:
+        best, s_best = f, s
+    return f_low, s_low, best, s_best
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
 def _move_min(i, j, tip, axis, px, py, pz, dx, dy, dz, prm, fa, sa, na, fb, sb, nb, best,
               tol, bend_tol, near_miss, n_golden, g, stk, stats, s0, lo, hi, c0=-1.0,
               ends=True):
@@ -161,9 +172,7 @@ def _move_min(i, j, tip, axis, px, py, pz, dx, dy, dz, prm, fa, sa, na, fb, sb, 
         stats[2] += 1
         evals = 1
         if f < _HALF:
-            f_low, s_low = f, s0
-            if f < best:
-                best, s_best = f, s0
+            f_low, s_low, best, s_best = _noted(f, s0, f_low, s_low, best, s_best)
             if sl < 0.0:  # f falls towards hi: that side first (pushed last)
                 stk[0, :] = (lo, s0, INF, 0.0, 0.0, f, sl, nu, 0.0)
                 stk[1, :] = (s0, hi, f, sl, nu, INF, 0.0, 0.0, 0.0)
@@ -172,48 +181,36 @@ def _move_min(i, j, tip, axis, px, py, pz, dx, dy, dz, prm, fa, sa, na, fb, sb, 
                 stk[1, :] = (lo, s0, INF, 0.0, 0.0, f, sl, nu, 0.0)
             n = 2
             s_l, sl_l, hit_l = s0, sl, True
-    # only [lo, hi] can cut below best (the spans' geometric bounds): its ends (the whole
-    # move's too when the caller took none and s0 missed)
-    if n > 0:
-        pass
-    elif lo > 0.0 or not ends:
-        fa, sa, na = _at(lo, i, j, tip, axis, px, py, pz, dx, dy, dz, prm, g)
-        stats[2] += 1
-        if fa < f_low:
-            f_low, s_low = fa, lo
-        if fa < best:
-            best, s_best = fa, lo
-    if n == 0 and (hi < 1.0 or not ends):
-        fb, sb, nb = _at(hi, i, j, tip, axis, px, py, pz, dx, dy, dz, prm, g)
-        stats[2] += 1
-        if fb < f_low:
-            f_low, s_low = fb, hi
-        if fb < best:
-            best, s_best = fb, hi
-    if n > 0:
-        pass
-    elif fa >= _HALF and fb >= _HALF:
-        # both ends miss: try where the tip passes closest to the cell (in XY)
-        vv = vx * vx + vy * vy
-        sc = 0.5 * (lo + hi) if vv <= 0.0 else min(max(
-            ((px - tip[i, 0]) * vx + (py - tip[i, 1]) * vy) / vv, lo), hi)
-        f, sl, nu = _at(sc, i, j, tip, axis, px, py, pz, dx, dy, dz, prm, g)
-        if f >= _HALF:
-            if f - MISS > near_miss:
-                return best, s_best, s_low, -1.0
-            stats[3] += 1
-            return min(best, _golden(i + lo, i + hi, i, i + 1, tip, axis, px, py, pz, dx, dy,
-                                     dz, prm, n_golden)), s_best, s_low, -1.0
-        if f < f_low:
-            f_low, s_low = f, sc
-        if f < best:
-            best, s_best = f, sc
-        stk[0, :] = (lo, sc, fa, sa, nu, f, sl, nu, 0.0)
-        stk[1, :] = (sc, hi, f, sl, nu, fb, sb, nu, 0.0)
-        n = 2
-    else:
-        stk[0, :] = (lo, hi, fa, sa, na, fb, sb, nb, 0.0)
-        n = 1
+    if n == 0:  # not started from s0 above: from the stretch's ends
+        # only [lo, hi] can cut below best (the spans' geometric bounds): its ends (the
+        # whole move's too when the caller took none and s0 missed)
+        if lo > 0.0 or not ends:
+            fa, sa, na = _at(lo, i, j, tip, axis, px, py, pz, dx, dy, dz, prm, g)
+            stats[2] += 1
+            f_low, s_low, best, s_best = _noted(fa, lo, f_low, s_low, best, s_best)
+        if hi < 1.0 or not ends:
+            fb, sb, nb = _at(hi, i, j, tip, axis, px, py, pz, dx, dy, dz, prm, g)
+            stats[2] += 1
+            f_low, s_low, best, s_best = _noted(fb, hi, f_low, s_low, best, s_best)
+        if fa >= _HALF and fb >= _HALF:
+            # both ends miss: try where the tip passes closest to the cell (in XY)
+            vv = vx * vx + vy * vy
+            sc = 0.5 * (lo + hi) if vv <= 0.0 else min(max(
+                ((px - tip[i, 0]) * vx + (py - tip[i, 1]) * vy) / vv, lo), hi)
+            f, sl, nu = _at(sc, i, j, tip, axis, px, py, pz, dx, dy, dz, prm, g)
+            if f >= _HALF:
+                if f - MISS > near_miss:
+                    return best, s_best, s_low, -1.0
+                stats[3] += 1
+                return min(best, _golden(i + lo, i + hi, i, i + 1, tip, axis, px, py, pz, dx,
+                                         dy, dz, prm, n_golden)), s_best, s_low, -1.0
+            f_low, s_low, best, s_best = _noted(f, sc, f_low, s_low, best, s_best)
+            stk[0, :] = (lo, sc, fa, sa, nu, f, sl, nu, 0.0)
+            stk[1, :] = (sc, hi, f, sl, nu, fb, sb, nu, 0.0)
+            n = 2
+        else:
+            stk[0, :] = (lo, hi, fa, sa, na, fb, sb, nb, 0.0)
+            n = 1
     while n > 0:
         n -= 1
         a, b, fa, sa, na, fb, sb, nb, kept = stk[n]
@@ -270,10 +267,7 @@ def _move_min(i, j, tip, axis, px, py, pz, dx, dy, dz, prm, fa, sa, na, fb, sb, 
         s_l, sl_l, hit_l = s, sl, f < _HALF
         evals += 1
         stats[2] += 1
-        if f < f_low:
-            f_low, s_low = f, s
-        if f < best:
-            best, s_best = f, s
+        f_low, s_low, best, s_best = _noted(f, s, f_low, s_low, best, s_best)
         # the side towards which f falls is searched first (pushed last); ``kept`` counts
         # how often in a row its end a (> 0) or b (< 0) was kept
         if sl < 0.0:

@@ -235,6 +235,7 @@ def sweep_moves(res, x0, y0, h, pz, nrm, inside, vertical, tip, axis, mv_i, mv_j
                 p_z = pz[iy, ix]
                 best = res[iy, ix]
                 best_m, best_s = -1, -1.0
+                cell, row0 = iy * nx + ix, iy * nx + kx * ts  # and the tile row's first cell
                 nc = 0
                 for q in range(ptr[tile], ptr[tile + 1]):
                     m = tile_mv[q]
@@ -269,8 +270,6 @@ def sweep_moves(res, x0, y0, h, pz, nrm, inside, vertical, tip, axis, mv_i, mv_j
                                                 geo, gs)
                             if lo > hi:
                                 continue
-                    cell = iy * nx + ix
-                    row0 = iy * nx + kx * ts  # the tile row's first cell
                     near = mv_cell1[m] == cell - 1 and cell - 1 >= row0
                     s0, c0 = (hint_s if m == hint_m else -1.0), -1.0
                     if near:
@@ -282,9 +281,8 @@ def sweep_moves(res, x0, y0, h, pz, nrm, inside, vertical, tip, axis, mv_i, mv_j
                     ends = not (best >= _HALF and lo == 0.0 and hi == 1.0 and i != j
                                 and 0.02 < s0 < 0.98)
                     # a CL point's entry serves both moves that meet there; an end outside
-                    # [lo, hi] is not needed (its entry stays 0, a placeholder)
+                    # [lo, hi], or skipped, is not needed (its entry stays 0, a placeholder)
                     f0 = f1 = 0.0
-                    cf[c, 1] = cf[c, 2] = cf[c, 4] = cf[c, 5] = 0.0
                     if ends and lo == 0.0:
                         if c > 0 and have[c - 1, 1] and mv_j[cm[c - 1]] == i:
                             f0 = cf[c - 1, 3]
